@@ -1,0 +1,13 @@
+#pragma once
+// Each subcommand lives in its own file and registers itself on the parent command it is
+// given. main.cpp only lists them, in the order `--help` shows them.
+#include <CLI/CLI.hpp>
+
+namespace probeless::cli {
+
+// Thrown by a command for a failure the user can act on; main prints the message and exits 1.
+struct CommandError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace probeless::cli

@@ -1,0 +1,33 @@
+// probeless: the command line. Commands register themselves (app/cli/commands.hpp); errors
+// become exceptions that are caught here, once, and printed with their context.
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <exception>
+
+#include "app/cli/commands.hpp"
+#include "app/cli/logging.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"probeless: headless mixed-reality appliance service"};
+  app.require_subcommand(1);
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
+  auto* bench = app.add_subcommand("bench", "Benchmarks that print numbers");
+  bench->require_subcommand(1);
+  auto* eval = app.add_subcommand("eval", "Evaluations against ground truth");
+  eval->require_subcommand(1);
+  (void)eval;
+
+  app.parse_complete_callback([&] { probeless::cli::setup_logging(log_level.c_str()); });
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,30 @@
+#include "support/test_data.hpp"
+
+#include <atomic>
+#include <cstdlib>
+#include <unistd.h>
+
+namespace probeless::testing {
+
+std::filesystem::path shared_data_dir() {
+  const char* env = std::getenv("PROBELESS_DATA");
+  std::filesystem::path dir = env && *env ? env : "";
+  if (dir.empty() || !std::filesystem::exists(dir)) return {};
+  return std::filesystem::canonical(dir);
+}
+
+std::filesystem::path scratch_dir() {
+  static std::atomic<int> counter{0};
+  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  std::string name = info ? std::string(info->test_suite_name()) + "." + info->name() : "test";
+  for (auto& ch : name)
+    if (ch == '/') ch = '_';
+  const char* base = std::getenv("PROBELESS_CACHE_DIR");
+  auto dir = std::filesystem::path(base && *base ? base : "/tmp") / "scratch" /
+             (name + "." + std::to_string(::getpid()) + "." + std::to_string(counter++));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+}  // namespace probeless::testing
