@@ -52,6 +52,7 @@ class Image {
 
 using ImageRGB8 = Image<std::uint8_t, 3>;    // display-referred colour, sRGB-ish gamma 2.2
 using ImageGray8 = Image<std::uint8_t, 1>;   // masks (0 / 255) and 8-bit mattes
+using ImageRGBA8 = Image<std::uint8_t, 4>;   // rendered virtual colour with coverage
 using DepthImage = Image<std::uint16_t, 1>;  // millimetres, 0 = unknown
 using ImageRGB16 = Image<std::uint16_t, 3>;  // linear raw sensor values (8..16 bit)
 using ImageF = Image<float, 1>;              // mattes (alpha in [0,1]), costs, linear depth
