@@ -1,0 +1,54 @@
+#pragma once
+// The service's configuration: what `probeless run --config FILE` reads (TOML, documented in
+// docs/configuration.md). Every field has a default so that `probeless run` with no file runs
+// the synthetic rig with a built-in object.
+#include <Eigen/Core>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace probeless {
+
+struct ObjectConfig {
+  std::string shape = "pawn";  // built-in: "pawn", "sphere", "box"; ignored when model is set
+  std::string model;           // path to a .gltf/.glb/.obj file (relative to the config file)
+  std::optional<Eigen::Vector3d> position;  // world metres; default: the rig's object anchor
+  double yaw_deg = 0;                       // rotation about world z
+  double scale = 1.0;
+  Eigen::Vector3f color{0.75f, 0.18f, 0.12f};  // linear base colour
+};
+
+struct ServiceConfig {
+  std::string source = "sim";  // drivers/rig_factory.hpp spec: sim[:opts], replay:DIR, tum:DIR
+  std::vector<ObjectConfig> objects{ObjectConfig{}};
+
+  std::string occlusion_method = "direct1";  // see docs/occlusion.md for the list
+
+  bool http_enabled = true;
+  std::string http_address = "127.0.0.1";  // loopback by default: an appliance opens up on purpose
+  int http_port = 8080;
+  int jpeg_quality = 80;
+
+  std::string output_dir;            // empty: no file output
+  std::string output_format = "jpeg";  // "jpeg" or "png"
+  bool output_matte = false;
+
+  std::string cl_platform;  // substring match; empty: PROBELESS_CL_PLATFORM or the default
+  std::string cl_device;
+
+  std::int64_t max_frames = 0;  // 0 = run until stopped
+  // A source that has delivered nothing for this long is "no signal": outputs show the last
+  // good frame with a NO SIGNAL banner. 250 ms is 7 frames at 30 Hz: long enough to ride out
+  // a scheduling hiccup, short enough that a viewer sees the fault at once.
+  int no_signal_after_ms = 250;
+};
+
+// Parses TOML text; throws ParseError naming the source and line on bad input, unknown keys
+// included (a typo must not silently fall back to a default).
+ServiceConfig parse_service_config(std::string_view toml_text,
+                                   std::string_view source_name = "config.toml");
+ServiceConfig load_service_config(const std::string& path);
+
+}  // namespace probeless

@@ -1,0 +1,79 @@
+#include <gtest/gtest.h>
+
+#include "app/pipeline/service_config.hpp"
+#include "core/error.hpp"
+
+namespace probeless {
+namespace {
+
+TEST(ServiceConfig, EmptyTextGivesTheBuiltInDefault) {
+  const ServiceConfig c = parse_service_config("");
+  EXPECT_EQ(c.source, "sim");
+  ASSERT_EQ(c.objects.size(), 1u);
+  EXPECT_EQ(c.objects[0].shape, "pawn");
+  EXPECT_FALSE(c.objects[0].position.has_value());
+  EXPECT_EQ(c.http_address, "127.0.0.1");
+  EXPECT_EQ(c.http_port, 8080);
+}
+
+TEST(ServiceConfig, ReadsEverySection) {
+  const ServiceConfig c = parse_service_config(R"(
+[source]
+rig = "replay:/data/rec1"
+[[object]]
+shape = "sphere"
+position = [1.0, 2.0, 0.75]
+scale = 0.1
+color = [0.9, 0.9, 0.9]
+[[object]]
+model = "duck.gltf"
+[occlusion]
+method = "direct2"
+[http]
+address = "0.0.0.0"
+port = 9000
+[output]
+dir = "/tmp/out"
+format = "png"
+matte = true
+[pipeline]
+frames = 42
+)");
+  EXPECT_EQ(c.source, "replay:/data/rec1");
+  ASSERT_EQ(c.objects.size(), 2u);
+  EXPECT_EQ(c.objects[0].shape, "sphere");
+  ASSERT_TRUE(c.objects[0].position.has_value());
+  EXPECT_DOUBLE_EQ(c.objects[0].position->z(), 0.75);
+  EXPECT_DOUBLE_EQ(c.objects[0].scale, 0.1);
+  EXPECT_EQ(c.objects[1].model, "duck.gltf");
+  EXPECT_EQ(c.occlusion_method, "direct2");
+  EXPECT_EQ(c.http_port, 9000);
+  EXPECT_EQ(c.output_format, "png");
+  EXPECT_TRUE(c.output_matte);
+  EXPECT_EQ(c.max_frames, 42);
+}
+
+// A typo must not fall back silently to a default: the error names the key and its line.
+TEST(ServiceConfig, UnknownKeyIsAnErrorWithItsLine) {
+  try {
+    parse_service_config("[http]\nport = 1\nprot = 2\n", "svc.toml");
+    FAIL() << "expected ParseError";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("prot"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("svc.toml:3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(ServiceConfig, BadValuesAreErrors) {
+  EXPECT_THROW(parse_service_config("[http]\nport = 70000\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[http]\nport = \"80\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[[object]]\nshape = \"teapot\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[[object]]\nposition = [1, 2]\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[output]\nformat = \"gif\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[source\nrig = 1\n"), ParseError);  // TOML syntax
+  EXPECT_THROW(load_service_config("/nonexistent/probeless.toml"), ParseError);
+}
+
+}  // namespace
+}  // namespace probeless
