@@ -1,6 +1,8 @@
 #pragma once
 // Pinhole camera with Brown-Conrady distortion (OpenCV's k1 k2 p1 p2 k3 order), the model of
 // RGB-D colour cameras. With all coefficients zero it is the ideal pinhole the renderer uses.
+#include <limits>
+
 #include "core/camera/camera_model.hpp"
 
 namespace probeless {
@@ -22,6 +24,8 @@ struct BrownDistortion {
 class PinholeCamera final : public CameraModel {
  public:
   PinholeCamera() = default;
+  // Directions whose normalised radius lies beyond the point where the radial polynomial
+  // folds back (strong negative k) are not seen: project() returns nullopt for them.
   explicit PinholeCamera(PinholeIntrinsics k, BrownDistortion d = {});
 
   int width() const override { return k_.width; }
@@ -41,6 +45,8 @@ class PinholeCamera final : public CameraModel {
  private:
   PinholeIntrinsics k_;
   BrownDistortion d_;
+  double max_radius_ = std::numeric_limits<double>::infinity();  // normalised radius where the
+                                                                 // distortion stops increasing
 };
 
 }  // namespace probeless
