@@ -1,0 +1,52 @@
+#pragma once
+// The synthetic rig (docs/sim.md): a procedural room rendered on the CPU, deterministically
+// from a seed, as an RGB-D source and an upward fisheye source with ground truth. It is the
+// service's default source and the one every pipeline test runs on.
+#include <Eigen/Core>
+#include <cstdint>
+#include <string_view>
+
+#include "drivers/source.hpp"
+
+namespace probeless::sim {
+
+enum class TrajectoryKind { Static, Orbit, Handheld };
+
+struct SimOptions {
+  std::uint64_t seed = 1;
+  TrajectoryKind trajectory = TrajectoryKind::Orbit;
+  double rgbd_fps = 30, fisheye_fps = 30;  // nominal rates; timestamps advance by 1/fps
+  // true: read() paces frames to wall-clock (never blocking longer than its timeout) and
+  // skips frames a slow reader missed, as a camera would; false: as fast as the renderer goes
+  // (bench, record, tests), every frame in order.
+  bool realtime = true;
+  int fisheye_size = 512;  // square image, 64..1024
+  int fisheye_bit_depth = 12;  // 8 or 12
+  double fisheye_fov_deg = 190;
+  std::int64_t max_frames = -1;  // then EndOfStream (RGB-D frames count); -1: endless
+  // Fault injection for service tests: frames [stall_begin, stall_end) of the RGB-D stream are
+  // not delivered: read() returns NoFrameYet and state() says NoSignal during that span (as
+  // long in wall-clock time as those frames would have taken, in both modes); then it resumes.
+  std::int64_t stall_begin = -1, stall_end = -1;
+  bool ground_truth = true;  // attach FrameTruth
+  int render_threads = 2;    // per source; rendering is split across rows
+};
+
+// Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
+// "sim:"); throws std::invalid_argument naming the bad key. Keys: seed, trajectory
+// (static|orbit|handheld), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_size,
+// fisheye_bits, fisheye_fov, frames (max_frames), stall (BEGIN:END), truth, threads.
+SimOptions parse_sim_options(std::string_view spec);
+
+// Rig from drivers/source.hpp (rgbd + fisheye + calibration). Both sources share one
+// immutable world and may be read concurrently from two threads.
+Rig make_sim_rig(const SimOptions& options);
+
+// Where virtual objects stand: the centre of the table top in the world frame (z up), and
+// the table plane height.
+Eigen::Vector3d object_anchor();
+double table_top_height_m();
+// Where FrameTruth::light is seen from: 10 cm above the anchor, the centre of a small object.
+Eigen::Vector3d light_probe_position();
+
+}  // namespace probeless::sim
