@@ -1,0 +1,60 @@
+#pragma once
+// Parameters and pixel categories of cost-volume-filtering occlusion (thesis ch. 3, VRST
+// 2017). Every default is the author's value unless docs/occlusion.md says otherwise.
+#include <cstdint>
+
+#include "core/image.hpp"
+
+namespace probeless::occlusion {
+
+// What the depth test says about a pixel (thesis 3.3.1). "Infront" means the *real* surface
+// is in front of the virtual object, so the real thing hides the virtual one.
+enum class Category : std::uint8_t {
+  Ignore = 0,   // not on the virtual object
+  Behind = 1,   // real surface behind the virtual object: the object is visible
+  Infront = 2,  // real surface in front: the object is hidden
+  Process = 3,  // on the object, depth unknown, within the tolerance, or near a depth edge
+};
+
+using CategoryImage = Image<std::uint8_t, 1>;  // values of Category
+
+struct CategoriseParams {
+  // |real - virtual| <= tolerance is undecided ("process"). Not in the thesis text; chosen
+  // above the sensor model's axial noise at 1.5 m (docs/occlusion.md).
+  float depth_tolerance_mm = 15.0F;
+  // Infront/behind pixels closer than this to another on-object category become "process":
+  // lateral depth noise at silhouettes (thesis 3.3.1: 3 px).
+  int erosion_px = 3;
+};
+
+struct GuidedFilterParams {
+  int radius = 6;
+  float eps = 0.0025F;  // on intensities in [0, 1]
+  // 1: the exact filter. s > 1: He & Sun's fast guided filter (2015), coefficients computed
+  // on an s-times subsampled guide with radius max(1, round(r / s)) and upsampled bilinearly.
+  int subsample = 1;
+};
+
+struct CvfParams {
+  CategoriseParams categorise;
+  int band_px = 10;           // colour samples come from this close to the process region
+  int min_samples = 40;       // per class, else the depth test decides (thesis 3.3.2)
+  int bins_per_channel = 4;   // joint RGB histogram: 4^3 = 64 bins (author's code)
+  GuidedFilterParams wide{6, 0.0025F, 1};   // cost filter (author's code)
+  GuidedFilterParams feather{1, 0.3F, 1};   // after the threshold (author's code)
+};
+
+// Costs (probability that the real surface hides the object), thesis 3.3.3.
+inline constexpr float kCostInfront = 1.0F;
+inline constexpr float kCostBehind = 0.0F;
+inline constexpr float kCostIgnore = 0.5F;
+
+// Joint RGB histogram bin of an 8-bit colour: (r_bin * B + g_bin) * B + b_bin.
+inline int colour_bin(std::uint8_t r, std::uint8_t g, std::uint8_t b, int bins_per_channel) {
+  const int rb = r * bins_per_channel / 256;
+  const int gb = g * bins_per_channel / 256;
+  const int bb = b * bins_per_channel / 256;
+  return (rb * bins_per_channel + gb) * bins_per_channel + bb;
+}
+
+}  // namespace probeless::occlusion
