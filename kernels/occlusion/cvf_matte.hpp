@@ -1,0 +1,46 @@
+#pragma once
+// Cost-volume-filtering occlusion on the device (thesis ch. 3; docs/occlusion.md): depth
+// categories with eroded borders, colour histograms in a band around the undecided region,
+// per-pixel costs, a wide guided filter, a threshold, a narrow guided filter. Everything stays
+// on the device between stages; cvf_reference.hpp is the CPU twin the tests compare with.
+#include <cstdint>
+#include <vector>
+
+#include "kernels/occlusion/cvf_params.hpp"
+#include "kernels/occlusion/guided_filter.hpp"
+#include "kernels/occlusion/histogram_reference.hpp"
+#include "kernels/occlusion/occlusion_method.hpp"
+
+namespace probeless::occlusion {
+
+// Intermediates of the last process() call, downloaded for tests.
+struct CvfDeviceTrace {
+  CategoryImage categories;
+  ImageGray8 band;  // 1 inside the band (not 255)
+  ColourModels models;
+  Image<float, 4> wide_input;    // (r, g, b, cost) at the wide filter's resolution
+  Image<float, 4> feather_input;  // (r, g, b, mask) at full resolution
+};
+
+class CvfMatte final : public OcclusionMethod {
+ public:
+  CvfMatte(ComputeContext& ctx, const CvfParams& params = {});
+  std::string name() const override { return "cvf"; }
+  void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) override;
+
+  const CvfParams& params() const { return params_; }
+  CvfDeviceTrace download_trace();
+
+ private:
+  void run_2d(::cl::Kernel& k, int w, int h);
+
+  ComputeContext& ctx_;
+  CvfParams params_;
+  ::cl::Kernel raw_bits_, dilate_rows_, dilate_cols_, erode_, histogram_, cost_pack_, mask_pack_;
+  GuidedFilter wide_, feather_;
+  DeviceImageGray8 raw_, tmp_, near_, categories_, process_, band_;
+  ::cl::Buffer hist_;
+  DeviceImageF4 wide_in_, wide_ab_, wide_mean_, feather_in_, feather_ab_;
+};
+
+}  // namespace probeless::occlusion

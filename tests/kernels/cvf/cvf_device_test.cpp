@@ -1,0 +1,155 @@
+// The OpenCL CVF stage against its CPU reference on random sizes (odd widths included):
+// the guided filter alone, then every intermediate of the whole method.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "kernels/occlusion/cvf_matte.hpp"
+#include "kernels/occlusion/cvf_reference.hpp"
+#include "kernels/occlusion/guided_filter.hpp"
+#include "kernels/occlusion/guided_filter_reference.hpp"
+
+namespace probeless::occlusion {
+namespace {
+
+ComputeContext& context() {
+  static ComputeContext ctx;
+  return ctx;
+}
+
+struct Scene {
+  ImageRGB8 color;
+  DepthImage depth;
+  ImageF virt;
+};
+
+// Random blobs of colour and depth, holes in the depth, a virtual disc plus a slanted plane.
+Scene random_scene(int w, int h, std::uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.0F, 1.0F);
+  std::normal_distribution<float> n(0.0F, 8.0F);
+  Scene s{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h)};
+  const float cx = w * u(rng), cy = h * u(rng), r = 0.3F * std::min(w, h) + 2;
+  const float bx = w * u(rng), by = h * u(rng);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool fg = std::hypot(x - cx, y - cy) < r;
+      const bool near_edge = std::fabs(std::hypot(x - cx, y - cy) - r) < 2.5F;
+      const std::uint8_t base[3] = {std::uint8_t(fg ? 190 : 40), std::uint8_t(x * 255 / w),
+                                    std::uint8_t(fg ? 50 : 170)};
+      for (int c = 0; c < 3; ++c)
+        s.color.at(x, y, c) = std::uint8_t(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
+      const float z = fg ? 800.0F + 2.0F * (y - cy) : 2200.0F;
+      s.depth.at(x, y) = near_edge || u(rng) < 0.02F ? 0 : std::uint16_t(z + n(rng));
+      const bool on = (x > bx * 0.3F) || std::hypot(x - bx, y - by) < r;
+      s.virt.at(x, y) = on ? 1200.0F + 3.0F * x : 0.0F;
+    }
+  return s;
+}
+
+template <typename T, int C>
+Image<T, C> download(DeviceImage<T, C>& d) {
+  return d.download(context().queue());
+}
+
+TEST(GuidedFilterDevice, MatchesReferenceOnRandomSizes) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0F, 1.0F);
+  const int sizes[][2] = {{1, 1}, {7, 5}, {63, 17}, {65, 33}, {131, 47}, {200, 3}};
+  const struct {
+    int r;
+    float eps;
+  } cases[] = {{1, 0.3F}, {3, 0.0025F}, {6, 0.0025F}, {9, 0.01F}};
+  for (const auto& sz : sizes)
+    for (const auto& cs : cases) {
+      const int w = sz[0], h = sz[1];
+      ImageRGBF guide(w, h);
+      ImageF p(w, h);
+      Image<float, 4> packed(w, h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          for (int c = 0; c < 3; ++c)
+            guide.at(x, y, c) = packed.at(x, y, c) = ((x / 4 + y / 3 + c) % 3) * 0.3F + 0.1F * u(rng);
+          p.at(x, y) = packed.at(x, y, 3) = u(rng) < 0.5F ? 0.0F : 1.0F;
+        }
+      GuidedFilter gf(context(), cs.r, cs.eps, GuidedFilter::Output::Raw);
+      DeviceImageF4 in(context(), packed), ab;
+      DeviceImageF out;
+      gf.coefficients(in, ab);
+      gf.apply(ab, nullptr, &in, nullptr, &out);
+      const auto got = download(out);
+      const auto want = guided_filter_reference(guide, p, {cs.r, cs.eps, 1});
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          ASSERT_NEAR(got.at(x, y), want.at(x, y), 2e-4)
+              << w << "x" << h << " r=" << cs.r << " at " << x << "," << y;
+    }
+}
+
+void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& params) {
+  SCOPED_TRACE(testing::Message() << w << "x" << h << " seed " << seed << " subsample "
+                                  << params.wide.subsample);
+  const auto s = random_scene(w, h, seed);
+  const auto ref = cvf_reference(s.color, s.depth, s.virt, params);
+  CvfMatte cvf(context(), params);
+  DeviceImageRGB8 color(context(), s.color);
+  DeviceDepthImage depth(context(), s.depth);
+  DeviceImageF virt(context(), s.virt), alpha;
+  cvf.process({&color, &depth, &virt}, alpha);
+  const auto got = download(alpha);
+  const auto t = cvf.download_trace();
+
+  EXPECT_EQ(t.categories, ref.categories);
+  for (std::size_t i = 0; i < t.band.elements().size(); ++i)
+    ASSERT_EQ(t.band.elements()[i] != 0, ref.band.elements()[i] != 0) << i;
+  EXPECT_EQ(t.models.infront, ref.models.infront);
+  EXPECT_EQ(t.models.behind, ref.models.behind);
+  if (params.wide.subsample == 1)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) ASSERT_NEAR(t.wide_input.at(x, y, 3), ref.cost.at(x, y), 1e-6);
+
+  // The threshold may flip where the wide filter's output is within float noise of 0.5.
+  int flips = 0, undecided = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (std::fabs(ref.wide.at(x, y) - 0.5F) < 1e-3F) ++undecided;
+      if (t.feather_input.at(x, y, 3) != ref.mask.at(x, y)) {
+        ++flips;
+        EXPECT_LT(std::fabs(ref.wide.at(x, y) - 0.5F), 1e-3F) << x << "," << y;
+      }
+    }
+  EXPECT_LE(flips, undecided);
+  // Alpha agrees wherever no mask pixel in the feather window flipped.
+  int far = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (std::fabs(got.at(x, y) - ref.alpha.at(x, y)) > 1e-3F) ++far;
+  EXPECT_LE(far, 25 * flips) << "alpha differs on " << far << " pixels";
+}
+
+TEST(CvfDevice, MatchesReferenceExactFilter) {
+  CvfParams p;
+  p.wide.subsample = 1;
+  expect_cvf_matches(97, 61, 1, p);
+  expect_cvf_matches(64, 48, 2, p);
+  expect_cvf_matches(131, 9, 3, p);
+}
+
+TEST(CvfDevice, MatchesReferenceFastFilter) {
+  CvfParams p;
+  p.wide.subsample = 2;
+  expect_cvf_matches(97, 61, 4, p);
+  expect_cvf_matches(160, 121, 5, p);
+  p.bins_per_channel = 8;
+  expect_cvf_matches(75, 40, 6, p);
+}
+
+TEST(CvfDevice, FallsBackToTheDepthTestWithFewSamples) {
+  CvfParams p;
+  p.min_samples = 1000000;
+  expect_cvf_matches(50, 30, 7, p);
+}
+
+}  // namespace
+}  // namespace probeless::occlusion
