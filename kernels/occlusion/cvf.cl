@@ -14,55 +14,6 @@ inline int colour_bin(uchar r, uchar g, uchar b) {
   return ((r * BINS / 256) * BINS + g * BINS / 256) * BINS + b * BINS / 256;
 }
 
-// Raw depth test as bits: 0 off the object, else 1 << (category - 1).
-__kernel void cvf_raw_bits(__global const ushort* real_mm, __global const float* virtual_mm,
-                           __global uchar* bits, int w, int h, float tolerance_mm) {
-  const int x = get_global_id(0), y = get_global_id(1);
-  if (x >= w || y >= h) return;
-  const int i = y * w + x;
-  const float v = virtual_mm[i];
-  const ushort r = real_mm[i];
-  int c;
-  if (!(v > 0.0f)) c = CAT_IGNORE;
-  else if (r == 0 || fabs((float)r - v) <= tolerance_mm) c = CAT_PROCESS;
-  else c = (float)r < v ? CAT_INFRONT : CAT_BEHIND;
-  bits[i] = c == CAT_IGNORE ? 0 : (uchar)(1 << (c - 1));
-}
-
-// OR over the clipped window of radius r, along rows then along columns.
-__kernel void cvf_dilate_rows(__global const uchar* src, __global uchar* dst, int w, int h,
-                              int r) {
-  const int x = get_global_id(0), y = get_global_id(1);
-  if (x >= w || y >= h) return;
-  __global const uchar* row = src + y * w;
-  uchar v = 0;
-  for (int k = max(0, x - r); k <= min(w - 1, x + r); ++k) v |= row[k];
-  dst[y * w + x] = v;
-}
-
-__kernel void cvf_dilate_cols(__global const uchar* src, __global uchar* dst, int w, int h,
-                              int r) {
-  const int x = get_global_id(0), y = get_global_id(1);
-  if (x >= w || y >= h) return;
-  uchar v = 0;
-  for (int k = max(0, y - r); k <= min(h - 1, y + r); ++k) v |= src[k * w + x];
-  dst[y * w + x] = v;
-}
-
-// Erosion: infront/behind pixels with another on-object category nearby become process.
-// Writes the categories and the process mask (for the band).
-__kernel void cvf_erode(__global const uchar* raw_bits, __global const uchar* near_bits,
-                        __global uchar* categories, __global uchar* process, int w, int h) {
-  const int x = get_global_id(0), y = get_global_id(1);
-  if (x >= w || y >= h) return;
-  const int i = y * w + x;
-  const uchar own = raw_bits[i];
-  int c = own == 0 ? CAT_IGNORE : own == 1 ? CAT_BEHIND : own == 2 ? CAT_INFRONT : CAT_PROCESS;
-  if ((c == CAT_INFRONT || c == CAT_BEHIND) && (near_bits[i] & ~own) != 0) c = CAT_PROCESS;
-  categories[i] = (uchar)c;
-  process[i] = c == CAT_PROCESS ? 1 : 0;
-}
-
 // Colour models: joint RGB histograms of infront and behind pixels in the band. Each
 // work-group counts into local memory, then adds to the global counts
 // (hist[0..NBINS) infront, hist[NBINS..2 NBINS) behind), which start at zero.

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "kernels/occlusion/categorise.hpp"
 #include "kernels/occlusion/cvf_params.hpp"
 #include "kernels/occlusion/guided_filter.hpp"
 #include "kernels/occlusion/histogram_reference.hpp"
@@ -32,13 +33,12 @@ class CvfMatte final : public OcclusionMethod {
   CvfDeviceTrace download_trace();
 
  private:
-  void run_2d(::cl::Kernel& k, int w, int h);
-
   ComputeContext& ctx_;
   CvfParams params_;
-  ::cl::Kernel raw_bits_, dilate_rows_, dilate_cols_, erode_, histogram_, cost_pack_, mask_pack_;
+  Categoriser categoriser_;
+  ::cl::Kernel histogram_, cost_pack_, mask_pack_;
   GuidedFilter wide_, feather_;
-  DeviceImageGray8 raw_, tmp_, near_, categories_, process_, band_;
+  DeviceImageGray8 band_;
   ::cl::Buffer hist_;
   DeviceImageF4 wide_in_, wide_ab_, wide_mean_, feather_in_, feather_ab_;
 };
