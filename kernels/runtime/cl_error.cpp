@@ -1,11 +1,14 @@
 #include "kernels/runtime/cl_error.hpp"
 
-namespace probeless::cl {
+#include <fmt/format.h>
 
-const char* error_name(cl_int code) {
+namespace probeless {
+
+const char* cl_error_name(cl_int code) {
   switch (code) {
 #define PROBELESS_CL_ERR(x) \
-  case x: return #x;
+  case x:                   \
+    return #x;
     PROBELESS_CL_ERR(CL_SUCCESS)
     PROBELESS_CL_ERR(CL_DEVICE_NOT_FOUND)
     PROBELESS_CL_ERR(CL_DEVICE_NOT_AVAILABLE)
@@ -13,18 +16,37 @@ const char* error_name(cl_int code) {
     PROBELESS_CL_ERR(CL_MEM_OBJECT_ALLOCATION_FAILURE)
     PROBELESS_CL_ERR(CL_OUT_OF_RESOURCES)
     PROBELESS_CL_ERR(CL_OUT_OF_HOST_MEMORY)
+    PROBELESS_CL_ERR(CL_PROFILING_INFO_NOT_AVAILABLE)
+    PROBELESS_CL_ERR(CL_MEM_COPY_OVERLAP)
+    PROBELESS_CL_ERR(CL_IMAGE_FORMAT_MISMATCH)
+    PROBELESS_CL_ERR(CL_IMAGE_FORMAT_NOT_SUPPORTED)
     PROBELESS_CL_ERR(CL_BUILD_PROGRAM_FAILURE)
+    PROBELESS_CL_ERR(CL_MAP_FAILURE)
+    PROBELESS_CL_ERR(CL_MISALIGNED_SUB_BUFFER_OFFSET)
+    PROBELESS_CL_ERR(CL_EXEC_STATUS_ERROR_FOR_EVENTS_IN_WAIT_LIST)
+    PROBELESS_CL_ERR(CL_COMPILE_PROGRAM_FAILURE)
+    PROBELESS_CL_ERR(CL_LINKER_NOT_AVAILABLE)
+    PROBELESS_CL_ERR(CL_LINK_PROGRAM_FAILURE)
+    PROBELESS_CL_ERR(CL_DEVICE_PARTITION_FAILED)
+    PROBELESS_CL_ERR(CL_KERNEL_ARG_INFO_NOT_AVAILABLE)
     PROBELESS_CL_ERR(CL_INVALID_VALUE)
+    PROBELESS_CL_ERR(CL_INVALID_DEVICE_TYPE)
     PROBELESS_CL_ERR(CL_INVALID_PLATFORM)
     PROBELESS_CL_ERR(CL_INVALID_DEVICE)
     PROBELESS_CL_ERR(CL_INVALID_CONTEXT)
+    PROBELESS_CL_ERR(CL_INVALID_QUEUE_PROPERTIES)
     PROBELESS_CL_ERR(CL_INVALID_COMMAND_QUEUE)
+    PROBELESS_CL_ERR(CL_INVALID_HOST_PTR)
     PROBELESS_CL_ERR(CL_INVALID_MEM_OBJECT)
+    PROBELESS_CL_ERR(CL_INVALID_IMAGE_FORMAT_DESCRIPTOR)
+    PROBELESS_CL_ERR(CL_INVALID_IMAGE_SIZE)
+    PROBELESS_CL_ERR(CL_INVALID_SAMPLER)
     PROBELESS_CL_ERR(CL_INVALID_BINARY)
     PROBELESS_CL_ERR(CL_INVALID_BUILD_OPTIONS)
     PROBELESS_CL_ERR(CL_INVALID_PROGRAM)
     PROBELESS_CL_ERR(CL_INVALID_PROGRAM_EXECUTABLE)
     PROBELESS_CL_ERR(CL_INVALID_KERNEL_NAME)
+    PROBELESS_CL_ERR(CL_INVALID_KERNEL_DEFINITION)
     PROBELESS_CL_ERR(CL_INVALID_KERNEL)
     PROBELESS_CL_ERR(CL_INVALID_ARG_INDEX)
     PROBELESS_CL_ERR(CL_INVALID_ARG_VALUE)
@@ -35,11 +57,39 @@ const char* error_name(cl_int code) {
     PROBELESS_CL_ERR(CL_INVALID_WORK_ITEM_SIZE)
     PROBELESS_CL_ERR(CL_INVALID_GLOBAL_OFFSET)
     PROBELESS_CL_ERR(CL_INVALID_EVENT_WAIT_LIST)
+    PROBELESS_CL_ERR(CL_INVALID_EVENT)
+    PROBELESS_CL_ERR(CL_INVALID_OPERATION)
     PROBELESS_CL_ERR(CL_INVALID_BUFFER_SIZE)
     PROBELESS_CL_ERR(CL_INVALID_GLOBAL_WORK_SIZE)
+    PROBELESS_CL_ERR(CL_INVALID_PROPERTY)
+    PROBELESS_CL_ERR(CL_INVALID_COMPILER_OPTIONS)
+    PROBELESS_CL_ERR(CL_INVALID_LINKER_OPTIONS)
+    PROBELESS_CL_ERR(CL_INVALID_DEVICE_PARTITION_COUNT)
 #undef PROBELESS_CL_ERR
-    default: return "CL_UNKNOWN_ERROR";
+    // cl_khr_icd: the ICD loader found no driver (no file in /etc/OpenCL/vendors).
+    case -1001:
+      return "CL_PLATFORM_NOT_FOUND_KHR";
+    default:
+      return "CL_UNKNOWN_ERROR";
   }
 }
 
-}  // namespace probeless::cl
+std::string describe_cl_error(const ::cl::Error& e) {
+  return fmt::format("{}: {} ({})", e.what(), cl_error_name(e.err()), e.err());
+}
+
+ClError::ClError(const std::string& context, cl_int code)
+    : std::runtime_error(fmt::format("{}: {} ({})", context, cl_error_name(code), code)),
+      code_(code) {}
+
+ClBuildError::ClBuildError(std::string program_name, std::string options, std::string log,
+                           cl_int code)
+    : std::runtime_error(fmt::format("OpenCL program '{}' failed to build ({}) with options "
+                                     "'{}'; build log:\n{}",
+                                     program_name, cl_error_name(code), options, log)),
+      program_name_(std::move(program_name)),
+      options_(std::move(options)),
+      log_(std::move(log)),
+      code_(code) {}
+
+}  // namespace probeless

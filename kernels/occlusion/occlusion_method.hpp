@@ -1,0 +1,46 @@
+#pragma once
+// The occlusion stage: every matte method (Direct1/2, CVF, Guided, Bilateral, Crabb, ...) is a
+// class behind this interface, chosen by name in config (ServiceConfig::occlusion_method).
+// Inputs and output stay on the device; a method enqueues its work on the queue of the
+// ComputeContext it was constructed with and does not wait for it (the in-order queue orders
+// the next stage after it; whoever downloads the result waits).
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
+#include "kernels/runtime/device_image.hpp"
+
+namespace probeless::occlusion {
+
+// All on the device, all the same width x height (the RGB-D camera's colour frame, with the
+// real depth registered to it and the virtual depth rendered from the same camera).
+struct OcclusionInputs {
+  const DeviceImage<std::uint8_t, 3>* color = nullptr;           // real RGB8 frame (the guide)
+  const DeviceImage<std::uint16_t, 1>* real_depth_mm = nullptr;  // 0 = unknown
+  const DeviceImage<float, 1>* virtual_depth_mm = nullptr;       // 0 = no virtual object there
+
+  int width() const { return color ? color->width() : 0; }
+  int height() const { return color ? color->height() : 0; }
+};
+
+// Throws std::invalid_argument unless every input is present and they all share one size.
+// Methods call it at the top of process().
+inline void check_inputs(const OcclusionInputs& in, const std::string& method) {
+  if (!in.color || !in.real_depth_mm || !in.virtual_depth_mm)
+    throw std::invalid_argument(method + ": an occlusion input is missing");
+  if (!in.real_depth_mm->same_size(*in.color) || !in.virtual_depth_mm->same_size(*in.color))
+    throw std::invalid_argument(method + ": occlusion inputs differ in size");
+}
+
+class OcclusionMethod {
+ public:
+  virtual ~OcclusionMethod() = default;
+  // The config name: "direct1", "direct2", "cvf", ...
+  virtual std::string name() const = 0;
+  // alpha = visibility of the virtual object in [0, 1] (1 = the virtual object is in front),
+  // 0 wherever there is no virtual object. `alpha` is resized to the inputs when it differs
+  // (so a default-constructed DeviceImage works), then written on every pixel.
+  virtual void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) = 0;
+};
+
+}  // namespace probeless::occlusion
