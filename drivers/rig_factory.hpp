@@ -1,0 +1,23 @@
+#pragma once
+// One string names a rig, everywhere a command takes --source (docs/formats.md "Source
+// specs"):
+//   sim | sim:<options>            the synthetic rig (drivers/sim/sim_rig.hpp)
+//   replay:DIR[?options]           a recording (drivers/replay/replay_source.hpp)
+//   tum:DIR[?options]              a TUM RGB-D sequence (drivers/replay/tum_source.hpp)
+// Replay and TUM options, ',' or '&' separated: realtime=0|1 (default 1), loop=0|1 (0),
+// rebase=0|1 (0); TUM also calibration=FILE.
+#include <string>
+#include <string_view>
+
+#include "drivers/source.hpp"
+
+namespace probeless {
+
+// Throws std::invalid_argument for an unknown scheme or option (the message lists the valid
+// ones), ParseError / ImageFileError for a malformed recording or sequence.
+Rig open_rig(std::string_view spec);
+
+// "sim, sim:<options>, replay:DIR[?options], tum:DIR[?options]" for help texts.
+std::string rig_spec_help();
+
+}  // namespace probeless
