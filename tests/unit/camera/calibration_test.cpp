@@ -54,10 +54,12 @@ void expect_same(const RigCalibration& a, const RigCalibration& b) {
   ASSERT_EQ(a.fisheye == nullptr, b.fisheye == nullptr);
   if (a.fisheye) {
     EXPECT_EQ(a.fisheye->kind(), b.fisheye->kind());
-    if (auto* kb = dynamic_cast<const KannalaBrandtCamera*>(a.fisheye.get()))
+    if (auto* kb = dynamic_cast<const KannalaBrandtCamera*>(a.fisheye.get())) {
       EXPECT_EQ(kb->params(), dynamic_cast<const KannalaBrandtCamera&>(*b.fisheye).params());
-    if (auto* oc = dynamic_cast<const OCamCamera*>(a.fisheye.get()))
+    }
+    if (auto* oc = dynamic_cast<const OCamCamera*>(a.fisheye.get())) {
       EXPECT_EQ(oc->params(), dynamic_cast<const OCamCamera&>(*b.fisheye).params());
+    }
   }
   for (auto [pa, pb] :
        {std::pair{&a.T_rig_rgb, &b.T_rig_rgb}, std::pair{&a.T_rig_fisheye, &b.T_rig_fisheye}}) {
@@ -198,7 +200,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"FileAndParams", "model = \"kannala_brandt\"",
                 "model = \"ocam\"\nfile = \"calib.txt\"", 24,
                 "unknown key 'cx' in [fisheye] (ocam) with a file"}),
-    [](const auto& info) { return std::string(info.param.name); });
+    [](const ::testing::TestParamInfo<BadCase>& c) { return std::string(c.param.name); });
 
 }  // namespace
 }  // namespace probeless

@@ -30,7 +30,9 @@ int expect_pixel_round_trip(const CameraModel& cam, double step, double tol_px) 
       EXPECT_NEAR(ray->norm(), 1.0, 1e-12);
       const auto back = cam.project(*ray);
       EXPECT_TRUE(back) << cam.kind() << " at " << px.transpose();
-      if (back) EXPECT_LT((*back - px).norm(), tol_px) << cam.kind() << " at " << px.transpose();
+      if (back) {
+        EXPECT_LT((*back - px).norm(), tol_px) << cam.kind() << " at " << px.transpose();
+      }
       ++n;
     }
   return n;

@@ -1,0 +1,153 @@
+#include "drivers/io/hdr_image.hpp"
+
+#include <Imath/half.h>
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <string>
+
+namespace probeless {
+namespace {
+
+enum class HdrFormat { Radiance, OpenExr };
+
+HdrFormat format_of(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  if (ext == ".hdr" || ext == ".pic") return HdrFormat::Radiance;
+  if (ext == ".exr") return HdrFormat::OpenExr;
+  throw ImageFileError(path, "unknown HDR image extension (expected .hdr, .pic or .exr)");
+}
+
+// Writes through "<path>.tmp" and renames, so readers never see half a file.
+void write_atomically(const std::filesystem::path& path,
+                      const std::function<void(const std::filesystem::path&)>& write) {
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  try {
+    write(tmp);
+  } catch (...) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw;
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw ImageFileError(path, "cannot rename " + tmp.string() + ": " + ec.message());
+  }
+}
+
+ImageRGBF read_radiance(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ImageFileError(path, std::string("cannot open: ") + std::strerror(errno));
+  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                        std::istreambuf_iterator<char>());
+  if (in.bad()) throw ImageFileError(path, "read error");
+  return decode_radiance_hdr(bytes, path);
+}
+
+void write_radiance(const std::filesystem::path& path, const ImageRGBF& image) {
+  const std::vector<std::uint8_t> bytes = encode_radiance_hdr(image);
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw ImageFileError(tmp, std::string("cannot create: ") + std::strerror(errno));
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) throw ImageFileError(tmp, "cannot write");
+  });
+}
+
+ImageRGBF read_openexr(const std::filesystem::path& path) {
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    const long w = static_cast<long>(dw.max.x) - dw.min.x + 1;
+    const long h = static_cast<long>(dw.max.y) - dw.min.y + 1;
+    if (w <= 0 || h <= 0 || h > (1L << 28) / w)
+      throw ImageFileError(path, "bad data window " + std::to_string(w) + "x" + std::to_string(h));
+    ImageRGBF image(static_cast<int>(w), static_cast<int>(h));
+    const Imf::ChannelList& channels = file.header().channels();
+    const bool rgb =
+        channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
+    if (!rgb && !channels.findChannel("Y")) throw ImageFileError(path, "no R, G, B or Y channels");
+    constexpr std::size_t kPixel = 3 * sizeof(float);
+    const std::size_t row_bytes = kPixel * static_cast<std::size_t>(w);
+    Imf::FrameBuffer fb;
+    const char* names[3] = {"R", "G", "B"};
+    for (int c = 0; c < (rgb ? 3 : 1); ++c)
+      fb.insert(rgb ? names[c] : "Y",
+                Imf::Slice::Make(Imf::FLOAT, image.data() + c, dw, kPixel, row_bytes));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    if (!rgb)
+      for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+          image.at(x, y, 1) = image.at(x, y, 2) = image.at(x, y, 0);
+    return image;
+  } catch (const ImageFileError&) {
+    throw;
+  } catch (const std::exception& e) {  // Iex::BaseExc and std::bad_alloc
+    throw ImageFileError(path, std::string("OpenEXR: ") + e.what());
+  }
+}
+
+void write_openexr(const std::filesystem::path& path, const ImageRGBF& image, bool half) {
+  // Output files do not convert pixel types, so half channels are written from a half copy.
+  std::vector<Imath::half> halves;
+  if (half) halves.assign(image.elements().begin(), image.elements().end());
+  write_atomically(path, [&](const std::filesystem::path& tmp) {
+    try {
+      Imf::Header header(image.width(), image.height());
+      header.compression() = Imf::ZIP_COMPRESSION;
+      const Imf::PixelType type = half ? Imf::HALF : Imf::FLOAT;
+      const std::size_t sample = half ? sizeof(Imath::half) : sizeof(float);
+      // OpenEXR's slices take a non-const pointer for reading and writing alike.
+      char* base = half ? reinterpret_cast<char*>(halves.data())
+                        : reinterpret_cast<char*>(const_cast<float*>(image.data()));
+      const std::size_t row_bytes = 3 * sample * static_cast<std::size_t>(image.width());
+      Imf::FrameBuffer fb;
+      const char* names[3] = {"R", "G", "B"};
+      for (int c = 0; c < 3; ++c) {
+        header.channels().insert(names[c], Imf::Channel(type));
+        fb.insert(names[c], Imf::Slice(type, base + c * sample, 3 * sample, row_bytes));
+      }
+      Imf::OutputFile file(tmp.c_str(), header);
+      file.setFrameBuffer(fb);
+      file.writePixels(image.height());
+    } catch (const std::exception& e) {
+      throw ImageFileError(tmp, std::string("OpenEXR: ") + e.what());
+    }
+  });
+}
+
+}  // namespace
+
+ImageRGBF read_hdr_image(const std::filesystem::path& path) {
+  return format_of(path) == HdrFormat::Radiance ? read_radiance(path) : read_openexr(path);
+}
+
+void write_hdr_image(const std::filesystem::path& path, const ImageRGBF& image,
+                     HdrWriteOptions options) {
+  const HdrFormat format = format_of(path);
+  if (image.empty()) throw ImageFileError(path, "cannot write an empty image");
+  if (format == HdrFormat::Radiance)
+    write_radiance(path, image);
+  else
+    write_openexr(path, image, options.exr_half);
+}
+
+}  // namespace probeless
