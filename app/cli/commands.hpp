@@ -10,4 +10,7 @@ struct CommandError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// probeless bench sim [--frames N --sim OPTS --json FILE] (bench_sim_command.cpp)
+void add_bench_sim_command(CLI::App& bench);
+
 }  // namespace probeless::cli

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
   auto* bench = app.add_subcommand("bench", "Benchmarks that print numbers");
   bench->require_subcommand(1);
+  probeless::cli::add_bench_sim_command(*bench);
   auto* eval = app.add_subcommand("eval", "Evaluations against ground truth");
   eval->require_subcommand(1);
   (void)eval;

@@ -1,0 +1,132 @@
+#include <algorithm>
+#include <cmath>
+
+#include "drivers/sim/sim_random.hpp"
+#include "drivers/sim/sim_sources.hpp"
+
+namespace probeless::sim {
+
+namespace {
+
+// A linear raw sensor (docs/sim.md "Fisheye"). At 12 bit: black level 256, and full scale
+// (4095 - 256 DN at unit gain) holds 10000 electrons. Sensitivity: DN above black per unit
+// scene radiance per second of exposure at 0 dB, chosen so that a lamp-lit wall sits near
+// mid-scale at 10 ms and the window needs about 1/100 of that.
+struct SensorModel {
+  double black;
+  double white;
+  double dn_per_electron;  // at unit gain
+  double sensitivity;
+  double read_noise_e = 3.0;
+  double adc_noise_dn;
+};
+
+SensorModel sensor_model(int bit_depth) {
+  const double full_scale_12 = 4095.0 - 256.0;
+  SensorModel m{256.0, 4095.0, full_scale_12 / 10000.0, 600.0, 3.0, 0.5};
+  if (bit_depth == 8) {
+    const double k = (255.0 - 16.0) / full_scale_12;
+    m = {16.0, 255.0, m.dn_per_electron * k, m.sensitivity * k, 3.0, 0.3};
+  }
+  return m;
+}
+
+}  // namespace
+
+SimFisheyeSource::SimFisheyeSource(std::shared_ptr<const SimWorld> world,
+                                   const SimOptions& options, const RigGeometry& geometry,
+                                   std::shared_ptr<const CameraModel> camera, TimestampNs start_ns)
+    : world_(std::move(world)),
+      options_(options),
+      geometry_(geometry),
+      pacer_(start_ns, options.fisheye_fps, options.realtime),
+      pool_(options.render_threads),
+      renderer_(world_, *camera, &pool_),
+      end_index_(options.max_frames < 0
+                     ? -1
+                     : static_cast<std::int64_t>(std::floor(options.max_frames * options.fisheye_fps /
+                                                            options.rgbd_fps))) {}
+
+void SimFisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
+  std::lock_guard lock(exposure_mutex_);
+  exposure_ = exposure;
+}
+
+ReadResult SimFisheyeSource::read(FisheyeFrame& frame, std::chrono::milliseconds timeout) {
+  for (;;) {
+    if (end_index_ >= 0 && next_ >= end_index_) {
+      state_ = SourceState::Ended;
+      return ReadResult::EndOfStream;
+    }
+    if (!pacer_.realtime()) break;
+    if (!FramePacer::wait_until(pacer_.timestamp(next_), timeout)) return ReadResult::NoFrameYet;
+    const std::int64_t latest = pacer_.latest_due(monotonic_now_ns());
+    if (latest <= next_) break;
+    next_ = latest;
+  }
+  ExposureStamp exposure;
+  {
+    std::lock_guard lock(exposure_mutex_);
+    exposure = exposure_;
+  }
+  render_frame(next_, exposure, frame);
+  ++next_;
+  state_ = SourceState::Streaming;
+  return ReadResult::Frame;
+}
+
+void SimFisheyeSource::render_frame(std::int64_t index, const ExposureStamp& exposure,
+                                    FisheyeFrame& frame) {
+  const double t = pacer_.seconds(index);
+  const Pose rig = world_->rig_pose(options_.trajectory, t);
+  const int lamps = SimWorld::lamp_state(t);
+  const Occluder arm = world_->occluder(t, (rig * geometry_.T_rig_rgb).translation);
+  renderer_.render(rig * geometry_.T_rig_fisheye, lamps, &arm, false);
+
+  const SensorModel m = sensor_model(options_.fisheye_bit_depth);
+  const double gain = exposure.exposure.gain();
+  const auto to_dn = static_cast<float>(m.sensitivity * exposure.exposure.time_s * gain);
+  const auto shot = static_cast<float>(m.dn_per_electron * gain);  // DN^2 per DN of signal
+  const double read_dn = m.read_noise_e * m.dn_per_electron * gain;
+  const auto read_var = static_cast<float>(read_dn * read_dn + m.adc_noise_dn * m.adc_noise_dn);
+  const auto black = static_cast<float>(m.black), white = static_cast<float>(m.white);
+
+  const int w = renderer_.width(), h = renderer_.height();
+  frame.raw = ImageRGB16(w, h);
+  const ImageRGBF& rad = renderer_.radiance();
+  const std::uint64_t frame_seed =
+      hash_combine(hash_combine(world_->seed(), 0xf15e7e), static_cast<std::uint64_t>(index));
+  constexpr int kRowsPerTask = 32;
+  pool_.parallel_for((h + kRowsPerTask - 1) / kRowsPerTask, [&](int task) {
+    const int y1 = std::min(h, (task + 1) * kRowsPerTask);
+    for (int y = task * kRowsPerTask; y < y1; ++y) {
+      const float* in = rad.row(y);
+      std::uint16_t* out = frame.raw.row(y);
+      for (int x = 0; x < w; ++x) {
+        const std::uint64_t bits = mix64(frame_seed ^ (static_cast<std::uint64_t>(y) * w + x));
+        for (int c = 0; c < 3; ++c) {
+          const float signal = in[3 * x + c] * to_dn;
+          const float v = black + signal +
+                          std::sqrt(shot * signal + read_var) * unit_noise(bits >> (21 * c));
+          out[3 * x + c] = static_cast<std::uint16_t>(std::clamp(v + 0.5f, 0.0f, white));
+        }
+      }
+    }
+  });
+
+  frame.sequence = static_cast<std::uint64_t>(index);
+  frame.timestamp_ns = pacer_.timestamp(index);
+  frame.bit_depth = options_.fisheye_bit_depth;
+  frame.black_level = static_cast<std::uint16_t>(m.black);
+  frame.exposure = exposure;
+  if (options_.ground_truth) {
+    auto truth = std::make_shared<FrameTruth>();
+    truth->rig_pose = rig;
+    truth->light = world_->light(lamps);
+    frame.truth = std::move(truth);
+  } else {
+    frame.truth.reset();
+  }
+}
+
+}  // namespace probeless::sim

@@ -1,0 +1,205 @@
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <thread>
+
+#include "core/depth_noise.hpp"
+#include "drivers/sim/sim_random.hpp"
+#include "drivers/sim/sim_sources.hpp"
+
+namespace probeless::sim {
+
+namespace {
+
+// Auto exposure: the log-mean (geometric mean) of the scene maps to 0.18, white balance is
+// the grey world in the log domain (the window's blue sky does not swamp it); both follow
+// an exponential average over the last kMeterFrames frames, so they lag a few frames as a
+// real camera's do. Metering looks at a kMeterScale-times smaller image.
+constexpr int kMeterFrames = 8;
+constexpr double kMeterSmoothing = 0.35;
+constexpr int kMeterScale = 8;
+constexpr double kMidGrey = 0.18;
+// Colour sensor noise in linear units of full scale: shot (variance proportional to the
+// signal) and read noise.
+constexpr float kShotNoise = 1e-4f;
+constexpr float kReadNoise = 4e-4f;
+
+// Linear [0, 1] in 1/65535 steps -> 8-bit with gamma 2.2.
+const std::array<std::uint8_t, 65536>& gamma_table() {
+  static const auto table = [] {
+    std::array<std::uint8_t, 65536> t{};
+    for (std::size_t i = 0; i < t.size(); ++i)
+      t[i] = static_cast<std::uint8_t>(std::lround(255.0 * std::pow(i / 65535.0, 1.0 / 2.2)));
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
+
+std::int64_t FramePacer::latest_due(TimestampNs now) const {
+  return static_cast<std::int64_t>(std::floor((now - start_ns_) * 1e-9 * fps_));
+}
+
+bool FramePacer::wait_until(TimestampNs deadline, std::chrono::milliseconds timeout) {
+  const TimestampNs now = monotonic_now_ns();
+  if (deadline <= now) return true;
+  const TimestampNs limit = now + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+  std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(deadline, limit) - now));
+  return deadline <= limit;
+}
+
+SimRgbdSource::SimRgbdSource(std::shared_ptr<const SimWorld> world, const SimOptions& options,
+                             const RigGeometry& geometry, TimestampNs start_ns)
+    : world_(std::move(world)),
+      options_(options),
+      geometry_(geometry),
+      pacer_(start_ns, options.rgbd_fps, options.realtime),
+      pool_(options.render_threads),
+      renderer_(world_, geometry.width, geometry.height, geometry.fx, geometry.fy, geometry.cx,
+                geometry.cy, &pool_),
+      meter_renderer_(world_, geometry.width / kMeterScale, geometry.height / kMeterScale,
+                      geometry.fx / kMeterScale, geometry.fy / kMeterScale,
+                      (geometry.cx + 0.5) / kMeterScale - 0.5, (geometry.cy + 0.5) / kMeterScale - 0.5,
+                      nullptr) {}
+
+ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeout) {
+  for (;;) {
+    if (options_.max_frames >= 0 && next_ >= options_.max_frames) {
+      state_ = SourceState::Ended;
+      return ReadResult::EndOfStream;
+    }
+    if (next_ >= options_.stall_begin && next_ < options_.stall_end) {
+      // A stall lasts as long as its frames would have, in wall-clock time, in both modes.
+      state_ = SourceState::NoSignal;
+      TimestampNs end = pacer_.timestamp(options_.stall_end);
+      if (!pacer_.realtime()) {
+        if (stall_wall_end_ == 0)
+          stall_wall_end_ = monotonic_now_ns() +
+                            pacer_.timestamp(options_.stall_end) - pacer_.timestamp(next_);
+        end = stall_wall_end_;
+      }
+      if (!FramePacer::wait_until(end, timeout)) return ReadResult::NoFrameYet;
+      next_ = options_.stall_end;
+      continue;
+    }
+    if (pacer_.realtime()) {
+      if (!FramePacer::wait_until(pacer_.timestamp(next_), timeout)) return ReadResult::NoFrameYet;
+      // A slow reader misses frames, as with a camera; it never gets old ones.
+      const std::int64_t latest = pacer_.latest_due(monotonic_now_ns());
+      if (latest > next_) {
+        next_ = latest;
+        continue;  // the newest frame may lie in a stall or past the end
+      }
+    }
+    break;
+  }
+  render_frame(next_, frame);
+  ++next_;
+  state_ = SourceState::Streaming;
+  return ReadResult::Frame;
+}
+
+const SimRgbdSource::Metering& SimRgbdSource::meter(std::int64_t index) {
+  index = std::max<std::int64_t>(index, 0);
+  if (auto it = metering_.find(index); it != metering_.end()) return it->second;
+  const double t = pacer_.seconds(index);
+  const Pose rig = world_->rig_pose(options_.trajectory, t);
+  const Pose camera = rig * geometry_.T_rig_rgb;
+  const Occluder arm = world_->occluder(t, camera.translation);
+  meter_renderer_.render(camera, SimWorld::lamp_state(t), &arm, false);
+  const ImageRGBF& rad = meter_renderer_.radiance();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < rad.pixel_count(); ++i)
+    for (int c = 0; c < 3; ++c) sum[c] += std::log(1e-3 + rad.data()[3 * i + c]);
+  Metering m{sum / static_cast<double>(rad.pixel_count())};
+  // Keep only what the next frames can still ask for.
+  while (!metering_.empty() && metering_.begin()->first < index - 2 * kMeterFrames)
+    metering_.erase(metering_.begin());
+  return metering_.emplace(index, m).first->second;
+}
+
+void SimRgbdSource::auto_exposure(std::int64_t index, double& gain, Eigen::Vector3d& white_balance) {
+  Eigen::Vector3d log_mean = Eigen::Vector3d::Zero();
+  double weight_sum = 0, weight = 1;
+  for (int k = 1; k <= kMeterFrames; ++k) {
+    log_mean += weight * meter(index - k).log_mean;
+    weight_sum += weight;
+    weight *= 1 - kMeterSmoothing;
+  }
+  log_mean /= weight_sum;
+  const double log_y = 0.2126 * log_mean[0] + 0.7152 * log_mean[1] + 0.0722 * log_mean[2];
+  gain = kMidGrey / std::exp(log_y);
+  for (int c = 0; c < 3; ++c) white_balance[c] = std::clamp(std::exp(log_y - log_mean[c]), 0.5, 2.0);
+}
+
+void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
+  const double t = pacer_.seconds(index);
+  const Pose rig = world_->rig_pose(options_.trajectory, t);
+  const Pose camera = rig * geometry_.T_rig_rgb;
+  const int lamps = SimWorld::lamp_state(t);
+  const Occluder arm = world_->occluder(t, camera.translation);
+  renderer_.render(camera, lamps, &arm, true);
+
+  double gain;
+  Eigen::Vector3d wb;
+  auto_exposure(index, gain, wb);
+  const int w = geometry_.width, h = geometry_.height;
+  const ImageF& depth_m = renderer_.depth();
+  const ImageGray8& flags = renderer_.flags();
+  DepthImage clean(w, h), measurable(w, h);
+  for (std::size_t i = 0; i < clean.pixel_count(); ++i) {
+    const float z = depth_m.data()[i];
+    const auto mm = static_cast<std::uint16_t>(std::clamp(std::lround(z * 1000.0f), 0L, 65535L));
+    clean.data()[i] = mm;
+    measurable.data()[i] = (flags.data()[i] & kFlagNoDepth) ? 0 : mm;
+  }
+
+  frame.sequence = static_cast<std::uint64_t>(index);
+  frame.timestamp_ns = pacer_.timestamp(index);
+  frame.color = ImageRGB8(w, h);
+  const std::uint64_t frame_seed = hash_combine(world_->seed(), static_cast<std::uint64_t>(index));
+  const auto& lut = gamma_table();
+  const ImageRGBF& rad = renderer_.radiance();
+  const std::array<float, 3> scale{static_cast<float>(gain * wb[0]), static_cast<float>(gain * wb[1]),
+                                   static_cast<float>(gain * wb[2])};
+  constexpr int kRowsPerTask = 48;
+  const int colour_tasks = (h + kRowsPerTask - 1) / kRowsPerTask;
+  // The depth noise runs beside the colour conversion (one task against many small ones).
+  pool_.parallel_for(1 + colour_tasks, [&](int task) {
+    if (task == 0) {
+      frame.depth = apply_kinect_noise(measurable, geometry_.fx, hash_combine(frame_seed, 1));
+      return;
+    }
+    const int y0 = (task - 1) * kRowsPerTask, y1 = std::min(h, y0 + kRowsPerTask);
+    for (int y = y0; y < y1; ++y) {
+      const float* in = rad.row(y);
+      std::uint8_t* out = frame.color.row(y);
+      for (int x = 0; x < w; ++x) {
+        const std::uint64_t bits = mix64(frame_seed ^ (static_cast<std::uint64_t>(y) * w + x));
+        for (int c = 0; c < 3; ++c) {
+          float v = in[3 * x + c] * scale[c];
+          v += std::sqrt(kShotNoise * std::max(v, 0.0f) + kReadNoise * kReadNoise) *
+               unit_noise(bits >> (21 * c));
+          const float clipped = std::clamp(v, 0.0f, 1.0f);
+          out[3 * x + c] = lut[static_cast<std::size_t>(clipped * 65535.0f + 0.5f)];
+        }
+      }
+    }
+  });
+
+  if (options_.ground_truth) {
+    auto truth = std::make_shared<FrameTruth>();
+    truth->clean_depth = std::move(clean);
+    truth->occluder_mask = ImageGray8(w, h);
+    for (std::size_t i = 0; i < flags.pixel_count(); ++i)
+      truth->occluder_mask.data()[i] = (flags.data()[i] & kFlagOccluder) ? 255 : 0;
+    truth->rig_pose = rig;
+    truth->light = world_->light(lamps);
+    frame.truth = std::move(truth);
+  } else {
+    frame.truth.reset();
+  }
+}
+
+}  // namespace probeless::sim

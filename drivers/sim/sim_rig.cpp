@@ -1,0 +1,157 @@
+#include "drivers/sim/sim_rig.hpp"
+
+#include <charconv>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "core/camera/kannala_brandt.hpp"
+#include "core/depth_noise.hpp"
+#include "drivers/sim/sim_sources.hpp"
+
+namespace probeless::sim {
+
+namespace {
+
+[[noreturn]] void bad(std::string_view key, std::string_view value, std::string_view expected) {
+  throw std::invalid_argument("sim option '" + std::string(key) + "': expected " +
+                              std::string(expected) + ", got '" + std::string(value) + "'");
+}
+
+template <typename T>
+T parse_number(std::string_view key, std::string_view value, std::string_view expected) {
+  T out{};
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), out);
+  if (ec != std::errc() || end != value.data() + value.size()) bad(key, value, expected);
+  return out;
+}
+
+bool parse_bool(std::string_view key, std::string_view value) {
+  if (value == "1" || value == "true" || value == "on" || value == "yes") return true;
+  if (value == "0" || value == "false" || value == "off" || value == "no") return false;
+  bad(key, value, "0 or 1");
+}
+
+double parse_positive(std::string_view key, std::string_view value, double max) {
+  const auto v = parse_number<double>(key, value, "a positive number");
+  if (!(v > 0 && v <= max)) bad(key, value, "a number in (0, " + std::to_string(max) + "]");
+  return v;
+}
+
+// The rig: colour (and registered depth) camera at the rig origin looking forward (rig +y),
+// the fisheye 8 cm above it looking up (rig +z) with the rig's forward at the top of its image.
+Pose rgb_in_rig() {
+  Eigen::Matrix3d r;
+  r << Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY();
+  Pose p;
+  p.rotation = Eigen::Quaterniond(r);
+  return p;
+}
+
+Pose fisheye_in_rig() {
+  Eigen::Matrix3d r;
+  r << -Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ();
+  Pose p;
+  p.rotation = Eigen::Quaterniond(r);
+  p.translation = Eigen::Vector3d(0.0, -0.02, 0.08);
+  return p;
+}
+
+// Rigs opened with the same seed share one world (building one bakes its lighting, a few
+// hundred milliseconds); it lives as long as a source uses it.
+std::shared_ptr<const SimWorld> shared_world(std::uint64_t seed) {
+  static std::mutex mutex;
+  static std::map<std::uint64_t, std::weak_ptr<const SimWorld>> worlds;
+  std::lock_guard lock(mutex);
+  if (auto world = worlds[seed].lock()) return world;
+  auto world = std::make_shared<const SimWorld>(seed);
+  worlds[seed] = world;
+  return world;
+}
+
+}  // namespace
+
+SimOptions parse_sim_options(std::string_view spec) {
+  SimOptions o;
+  std::size_t pos = 0;
+  while (pos <= spec.size()) {
+    const std::size_t end = std::min(spec.find_first_of(",&", pos), spec.size());
+    const std::string_view item = spec.substr(pos, end - pos);
+    pos = end + 1;
+    if (item.empty()) continue;
+    const std::size_t eq = item.find('=');
+    const std::string_view key = item.substr(0, eq);
+    if (eq == std::string_view::npos) bad(key, "", "key=value");
+    const std::string_view value = item.substr(eq + 1);
+    if (key == "seed") {
+      o.seed = parse_number<std::uint64_t>(key, value, "an unsigned integer");
+    } else if (key == "trajectory") {
+      if (value == "static") o.trajectory = TrajectoryKind::Static;
+      else if (value == "orbit") o.trajectory = TrajectoryKind::Orbit;
+      else if (value == "handheld") o.trajectory = TrajectoryKind::Handheld;
+      else bad(key, value, "static, orbit or handheld");
+    } else if (key == "fps" || key == "rgbd_fps") {
+      o.rgbd_fps = parse_positive(key, value, 1000);
+    } else if (key == "fisheye_fps") {
+      o.fisheye_fps = parse_positive(key, value, 1000);
+    } else if (key == "realtime") {
+      o.realtime = parse_bool(key, value);
+    } else if (key == "fisheye_size") {
+      o.fisheye_size = parse_number<int>(key, value, "an integer");
+      if (o.fisheye_size < 64 || o.fisheye_size > 1024) bad(key, value, "64..1024");
+    } else if (key == "fisheye_bits") {
+      o.fisheye_bit_depth = parse_number<int>(key, value, "8 or 12");
+      if (o.fisheye_bit_depth != 8 && o.fisheye_bit_depth != 12) bad(key, value, "8 or 12");
+    } else if (key == "fisheye_fov") {
+      o.fisheye_fov_deg = parse_positive(key, value, 240);
+    } else if (key == "frames" || key == "max_frames") {
+      o.max_frames = parse_number<std::int64_t>(key, value, "an integer");
+    } else if (key == "stall") {
+      const std::size_t colon = value.find(':');
+      if (colon == std::string_view::npos) bad(key, value, "BEGIN:END frame indices");
+      o.stall_begin = parse_number<std::int64_t>(key, value.substr(0, colon), "BEGIN:END");
+      o.stall_end = parse_number<std::int64_t>(key, value.substr(colon + 1), "BEGIN:END");
+      if (o.stall_begin < 0 || o.stall_end < o.stall_begin) bad(key, value, "0 <= BEGIN <= END");
+    } else if (key == "truth" || key == "ground_truth") {
+      o.ground_truth = parse_bool(key, value);
+    } else if (key == "threads") {
+      o.render_threads = parse_number<int>(key, value, "an integer");
+      if (o.render_threads < 1 || o.render_threads > 64) bad(key, value, "1..64");
+    } else {
+      throw std::invalid_argument(
+          "sim option '" + std::string(key) +
+          "': unknown (known: seed, trajectory, fps, rgbd_fps, fisheye_fps, realtime, "
+          "fisheye_size, fisheye_bits, fisheye_fov, frames, stall, truth, threads)");
+    }
+  }
+  return o;
+}
+
+Rig make_sim_rig(const SimOptions& options) {
+  if (!(options.rgbd_fps > 0) || !(options.fisheye_fps > 0))
+    throw std::invalid_argument("sim: frame rates must be positive");
+  if (options.fisheye_bit_depth != 8 && options.fisheye_bit_depth != 12)
+    throw std::invalid_argument("sim: fisheye_bit_depth must be 8 or 12");
+  if (options.render_threads < 1) throw std::invalid_argument("sim: render_threads must be >= 1");
+
+  Rig rig;
+  PinholeIntrinsics k;  // 640 x 480, f 525, centre (319.5, 239.5)
+  rig.calibration.rgb = PinholeCamera(k);
+  auto fisheye = std::make_shared<const KannalaBrandtCamera>(
+      KannalaBrandtCamera::equidistant(options.fisheye_size, options.fisheye_fov_deg));
+  rig.calibration.fisheye = fisheye;
+  rig.calibration.T_rig_rgb = rgb_in_rig();
+  rig.calibration.T_rig_fisheye = fisheye_in_rig();
+  rig.calibration.depth_baseline_m = KinectNoiseParams{}.baseline_m;
+
+  const RigGeometry geometry{rig.calibration.T_rig_rgb, rig.calibration.T_rig_fisheye,
+                             k.fx, k.fy, k.cx, k.cy, k.width, k.height};
+  auto world = shared_world(options.seed);
+  const TimestampNs start = monotonic_now_ns();
+  rig.rgbd = std::make_unique<SimRgbdSource>(world, options, geometry, start);
+  rig.fisheye = std::make_unique<SimFisheyeSource>(world, options, geometry, fisheye, start);
+  return rig;
+}
+
+}  // namespace probeless::sim

@@ -1,0 +1,101 @@
+#pragma once
+// The synthetic rig's two sources. Internal to drivers/sim: others open them through
+// make_sim_rig().
+#include <atomic>
+#include <map>
+#include <memory>
+#include <mutex>
+
+#include "drivers/sim/sim_renderer.hpp"
+#include "drivers/sim/sim_rig.hpp"
+#include "drivers/sim/sim_world.hpp"
+#include "drivers/sim/worker_pool.hpp"
+
+namespace probeless::sim {
+
+// Frame index -> time and wall-clock pacing, shared by both sources' logic.
+class FramePacer {
+ public:
+  FramePacer(TimestampNs start_ns, double fps, bool realtime)
+      : start_ns_(start_ns), fps_(fps), realtime_(realtime) {}
+  double fps() const { return fps_; }
+  bool realtime() const { return realtime_; }
+  double seconds(std::int64_t index) const { return index / fps_; }
+  TimestampNs timestamp(std::int64_t index) const {
+    return start_ns_ + static_cast<TimestampNs>(std::llround(index * 1e9 / fps_));
+  }
+  // The newest frame index whose time has come (realtime).
+  std::int64_t latest_due(TimestampNs now) const;
+  // Sleeps until `deadline` if that is within `timeout` of now; false when it is not.
+  static bool wait_until(TimestampNs deadline, std::chrono::milliseconds timeout);
+
+ private:
+  TimestampNs start_ns_;
+  double fps_;
+  bool realtime_;
+};
+
+struct RigGeometry {
+  Pose T_rig_rgb, T_rig_fisheye;
+  double fx, fy, cx, cy;
+  int width, height;
+};
+
+class SimRgbdSource final : public RgbdSource {
+ public:
+  SimRgbdSource(std::shared_ptr<const SimWorld> world, const SimOptions& options,
+                const RigGeometry& geometry, TimestampNs start_ns);
+  ReadResult read(RgbdFrame& frame, std::chrono::milliseconds timeout) override;
+  SourceState state() const override { return state_.load(); }
+  std::string name() const override { return "sim"; }
+
+  // Renders frame `index` (no pacing): the same index always gives the same frame.
+  void render_frame(std::int64_t index, RgbdFrame& frame);
+
+ private:
+  struct Metering {
+    Eigen::Vector3d log_mean;  // per channel, of linear radiance
+  };
+  const Metering& meter(std::int64_t index);
+  void auto_exposure(std::int64_t index, double& gain, Eigen::Vector3d& white_balance);
+
+  std::shared_ptr<const SimWorld> world_;
+  SimOptions options_;
+  RigGeometry geometry_;
+  FramePacer pacer_;
+  WorkerPool pool_;
+  SimRenderer renderer_;
+  SimRenderer meter_renderer_;
+  std::map<std::int64_t, Metering> metering_;
+  std::int64_t next_ = 0;
+  TimestampNs stall_wall_end_ = 0;
+  std::atomic<SourceState> state_{SourceState::Streaming};
+};
+
+class SimFisheyeSource final : public FisheyeSource {
+ public:
+  SimFisheyeSource(std::shared_ptr<const SimWorld> world, const SimOptions& options,
+                   const RigGeometry& geometry, std::shared_ptr<const CameraModel> camera,
+                   TimestampNs start_ns);
+  ReadResult read(FisheyeFrame& frame, std::chrono::milliseconds timeout) override;
+  SourceState state() const override { return state_.load(); }
+  std::string name() const override { return "sim"; }
+  void set_next_exposure(const ExposureStamp& exposure) override;
+
+  void render_frame(std::int64_t index, const ExposureStamp& exposure, FisheyeFrame& frame);
+
+ private:
+  std::shared_ptr<const SimWorld> world_;
+  SimOptions options_;
+  RigGeometry geometry_;
+  FramePacer pacer_;
+  WorkerPool pool_;
+  SimRenderer renderer_;
+  std::int64_t end_index_;
+  std::int64_t next_ = 0;
+  std::mutex exposure_mutex_;
+  ExposureStamp exposure_;
+  std::atomic<SourceState> state_{SourceState::Streaming};
+};
+
+}  // namespace probeless::sim

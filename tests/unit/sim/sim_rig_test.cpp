@@ -1,0 +1,255 @@
+#include "drivers/sim/sim_rig.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+
+#include "drivers/sim/sim_trace.hpp"
+#include "drivers/sim/sim_world.hpp"
+
+namespace probeless::sim {
+namespace {
+
+using std::chrono::milliseconds;
+
+Rig open(const std::string& spec) { return make_sim_rig(parse_sim_options(spec)); }
+
+RgbdFrame read_rgbd(Rig& rig) {
+  RgbdFrame f;
+  EXPECT_EQ(rig.rgbd->read(f, milliseconds(1000)), ReadResult::Frame);
+  return f;
+}
+
+FisheyeFrame read_fisheye(Rig& rig) {
+  FisheyeFrame f;
+  EXPECT_EQ(rig.fisheye->read(f, milliseconds(1000)), ReadResult::Frame);
+  return f;
+}
+
+TEST(SimOptions, ParsesEveryKey) {
+  const SimOptions o = parse_sim_options(
+      "seed=3,trajectory=static,fps=60,fisheye_fps=50,realtime=0,stall=60:120,frames=500,"
+      "fisheye_size=256,fisheye_bits=8,fisheye_fov=185,truth=0,threads=1");
+  EXPECT_EQ(o.seed, 3u);
+  EXPECT_EQ(o.trajectory, TrajectoryKind::Static);
+  EXPECT_EQ(o.rgbd_fps, 60);
+  EXPECT_EQ(o.fisheye_fps, 50);
+  EXPECT_FALSE(o.realtime);
+  EXPECT_EQ(o.stall_begin, 60);
+  EXPECT_EQ(o.stall_end, 120);
+  EXPECT_EQ(o.max_frames, 500);
+  EXPECT_EQ(o.fisheye_size, 256);
+  EXPECT_EQ(o.fisheye_bit_depth, 8);
+  EXPECT_EQ(o.fisheye_fov_deg, 185);
+  EXPECT_FALSE(o.ground_truth);
+  EXPECT_EQ(o.render_threads, 1);
+  EXPECT_EQ(parse_sim_options("").seed, SimOptions{}.seed);
+}
+
+TEST(SimOptions, ErrorsNameTheKey) {
+  for (const char* spec : {"sed=3", "seed=x", "trajectory=spiral", "stall=5", "fisheye_bits=10",
+                           "fisheye_size=4096", "fps=-1", "realtime=maybe"}) {
+    try {
+      parse_sim_options(spec);
+      ADD_FAILURE() << spec << " was accepted";
+    } catch (const std::invalid_argument& e) {
+      const std::string key(spec, std::string_view(spec).find('='));
+      EXPECT_NE(std::string(e.what()).find("'" + key + "'"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(SimRig, SameSeedSameFrames) {
+  Rig a = open("seed=5,realtime=0,trajectory=handheld");
+  Rig b = open("seed=5,realtime=0,trajectory=handheld");
+  for (int i = 0; i < 4; ++i) {
+    const RgbdFrame fa = read_rgbd(a), fb = read_rgbd(b);
+    EXPECT_EQ(fa.sequence, fb.sequence);
+    EXPECT_TRUE(fa.color == fb.color) << "frame " << i;
+    EXPECT_TRUE(fa.depth == fb.depth) << "frame " << i;
+    EXPECT_TRUE(fa.truth->clean_depth == fb.truth->clean_depth);
+    EXPECT_TRUE(fa.truth->occluder_mask == fb.truth->occluder_mask);
+  }
+  for (int i = 0; i < 2; ++i) EXPECT_TRUE(read_fisheye(a).raw == read_fisheye(b).raw);
+  Rig c = open("seed=6,realtime=0,trajectory=handheld");
+  Rig d = open("seed=5,realtime=0,trajectory=handheld");
+  EXPECT_FALSE(read_rgbd(c).color == read_rgbd(d).color);
+}
+
+TEST(SimRig, ThreadCountDoesNotChangeTheFrames) {
+  Rig a = open("seed=2,realtime=0,threads=1");
+  Rig b = open("seed=2,realtime=0,threads=3");
+  const RgbdFrame fa = read_rgbd(a), fb = read_rgbd(b);
+  EXPECT_TRUE(fa.color == fb.color);
+  EXPECT_TRUE(fa.depth == fb.depth);
+  EXPECT_TRUE(read_fisheye(a).raw == read_fisheye(b).raw);
+}
+
+TEST(SimRig, CalibrationLooksForwardAndUp) {
+  Rig rig = open("realtime=0,trajectory=static");
+  const RigCalibration& cal = rig.calibration;
+  EXPECT_EQ(cal.rgb.width(), 640);
+  EXPECT_EQ(cal.rgb.intrinsics().fx, 525);
+  ASSERT_TRUE(cal.fisheye);
+  EXPECT_EQ(cal.fisheye->width(), 512);
+  const RgbdFrame f = read_rgbd(rig);
+  const Pose T_world_rig = *f.truth->rig_pose;
+  const Eigen::Vector3d up = (T_world_rig * cal.T_rig_fisheye).rotation * Eigen::Vector3d::UnitZ();
+  EXPECT_NEAR(up.z(), 1.0, 1e-9) << "the fisheye's optical axis is world +z";
+  const Eigen::Vector3d forward = (T_world_rig * cal.T_rig_rgb).rotation * Eigen::Vector3d::UnitZ();
+  EXPECT_NEAR(forward.z(), 0.0, 1e-9) << "the colour camera looks horizontally";
+  // The anchor is in view, on the table top.
+  const Eigen::Vector3d anchor_cam = (T_world_rig * cal.T_rig_rgb).inverse() * object_anchor();
+  const auto px = cal.rgb.project(anchor_cam);
+  ASSERT_TRUE(px);
+  EXPECT_TRUE(cal.rgb.in_image(*px));
+  EXPECT_NEAR(object_anchor().z(), table_top_height_m(), 1e-12);
+  const int u = static_cast<int>(std::lround(px->x())), v = static_cast<int>(std::lround(px->y()));
+  EXPECT_NEAR(f.truth->clean_depth.at(u, v) / 1000.0, anchor_cam.z(), 0.01);
+}
+
+// Where the mask says "occluder", the clean depth is the arm's own depth along that ray.
+TEST(SimRig, OccluderMaskAgreesWithCleanDepth) {
+  Rig rig = open("seed=1,realtime=0,trajectory=static,fps=10");
+  const auto world = std::make_shared<const SimWorld>(1);
+  const PinholeIntrinsics k = rig.calibration.rgb.intrinsics();
+  int masked = 0;
+  for (int i = 0; i < 50; ++i) {
+    const RgbdFrame f = read_rgbd(rig);
+    const Pose cam = *f.truth->rig_pose * rig.calibration.T_rig_rgb;
+    const Occluder arm = world->occluder(f.sequence / 10.0, cam.translation);
+    const Eigen::Matrix3f r = cam.rotation.toRotationMatrix().cast<float>();
+    for (int y = 0; y < 480; y += 2) {
+      for (int x = 0; x < 640; x += 2) {
+        if (f.truth->occluder_mask.at(x, y) != 255) continue;
+        ++masked;
+        const Eigen::Vector3f d = r * Eigen::Vector3f((x - k.cx) / k.fx, (y - k.cy) / k.fy, 1);
+        const Ray ray(cam.translation.cast<float>(), d);
+        float best = 1e9f;
+        for (const Capsule& c : arm.capsules) {
+          float t;
+          if (hit_capsule(ray, c, t)) best = std::min(best, t);
+        }
+        ASSERT_LT(best, 1e9f) << "masked pixel (" << x << ", " << y << ") misses the arm";
+        ASSERT_NEAR(f.truth->clean_depth.at(x, y), best * 1000, 1.0);
+      }
+    }
+  }
+  EXPECT_GT(masked, 500) << "the arm crosses the view within five seconds";
+}
+
+TEST(SimRig, ArmPassesInFrontOfTheAnchorPeriodically) {
+  Rig rig = open("realtime=0,trajectory=orbit,fps=10");
+  int covered = 0, clear = 0;
+  for (int i = 0; i < 100; ++i) {  // ten seconds
+    const RgbdFrame f = read_rgbd(rig);
+    const Pose cam = *f.truth->rig_pose * rig.calibration.T_rig_rgb;
+    const auto px = rig.calibration.rgb.project(cam.inverse() * light_probe_position());
+    ASSERT_TRUE(px && rig.calibration.rgb.in_image(*px));
+    const bool hidden = f.truth->occluder_mask.at(static_cast<int>(px->x()), static_cast<int>(px->y())) == 255;
+    (hidden ? covered : clear)++;
+  }
+  EXPECT_GE(covered, 4);
+  EXPECT_GE(clear, 50);
+}
+
+TEST(SimRig, LightChangesOnlyWithTheLamps) {
+  Rig rig = open("realtime=0,trajectory=static,fps=1");
+  std::vector<std::shared_ptr<const Cubemap>> lights;
+  for (int i = 0; i < 13; ++i) lights.push_back(read_rgbd(rig).truth->light);
+  EXPECT_EQ(lights[0], lights[5]) << "the same lamps give the same shared cubemap";
+  EXPECT_NE(lights[5], lights[6]) << "lamp B switches off at 6 s";
+  EXPECT_EQ(lights[0], lights[12]) << "and on again at 12 s";
+  EXPECT_GE(lights[0]->face_size, 32);
+  // The bright window against the dark corners: at least 1e4 : 1.
+  float lo = 1e30f, hi = 0;
+  for (const auto& face : lights[6]->faces) {
+    for (std::size_t i = 0; i < face.pixel_count(); ++i) {
+      const float* c = face.data() + 3 * i;
+      const float y = 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2];
+      lo = std::min(lo, y);
+      hi = std::max(hi, y);
+    }
+  }
+  EXPECT_GE(hi / lo, 1e4f);
+}
+
+TEST(SimRig, FisheyeTakesTheExposureItIsTold) {
+  Rig rig = open("realtime=0,trajectory=static");
+  ExposureStamp e;
+  e.exposure = {0.002, 0.0};
+  e.level = BracketLevel::Low;
+  rig.fisheye->set_next_exposure(e);
+  const FisheyeFrame a = read_fisheye(rig);
+  EXPECT_EQ(a.exposure, e);
+  e.exposure.time_s = 0.004;
+  rig.fisheye->set_next_exposure(e);
+  const FisheyeFrame b = read_fisheye(rig);
+  EXPECT_EQ(b.exposure.exposure.time_s, 0.004);
+  EXPECT_EQ(a.bit_depth, 12);
+  // Twice the exposure, twice the signal above black where neither frame saturates.
+  double sa = 0, sb = 0;
+  int saturated = 0;
+  for (std::size_t i = 0; i < a.raw.elements().size(); ++i) {
+    const int va = a.raw.data()[i], vb = b.raw.data()[i];
+    if (vb >= 4095) {
+      ++saturated;
+      continue;
+    }
+    sa += va - a.black_level;
+    sb += vb - b.black_level;
+  }
+  EXPECT_NEAR(sb / sa, 2.0, 0.05);
+  EXPECT_GT(saturated, 0) << "the window saturates at 4 ms";
+}
+
+TEST(SimRig, EndsAfterMaxFrames) {
+  Rig rig = open("realtime=0,frames=3,fps=30,fisheye_fps=20,truth=0");
+  RgbdFrame f;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(rig.rgbd->read(f, milliseconds(100)), ReadResult::Frame);
+    EXPECT_FALSE(f.truth);
+  }
+  EXPECT_EQ(rig.rgbd->read(f, milliseconds(100)), ReadResult::EndOfStream);
+  EXPECT_EQ(rig.rgbd->state(), SourceState::Ended);
+  FisheyeFrame ff;
+  EXPECT_EQ(rig.fisheye->read(ff, milliseconds(100)), ReadResult::Frame);
+  EXPECT_EQ(rig.fisheye->read(ff, milliseconds(100)), ReadResult::Frame);
+  EXPECT_EQ(rig.fisheye->read(ff, milliseconds(100)), ReadResult::EndOfStream);
+}
+
+TEST(SimRig, StallSaysNoSignalThenResumes) {
+  Rig rig = open("realtime=0,fps=100,stall=2:5,truth=0");
+  RgbdFrame f;
+  ASSERT_EQ(rig.rgbd->read(f, milliseconds(100)), ReadResult::Frame);
+  ASSERT_EQ(rig.rgbd->read(f, milliseconds(100)), ReadResult::Frame);
+  EXPECT_EQ(f.sequence, 1u);
+  EXPECT_EQ(rig.rgbd->read(f, milliseconds(0)), ReadResult::NoFrameYet);
+  EXPECT_EQ(rig.rgbd->state(), SourceState::NoSignal);
+  // Three frames at 100 fps: the stall lasts 30 ms of wall-clock time.
+  const auto start = std::chrono::steady_clock::now();
+  ReadResult r;
+  while ((r = rig.rgbd->read(f, milliseconds(5))) == ReadResult::NoFrameYet) {}
+  EXPECT_GE(std::chrono::steady_clock::now() - start, milliseconds(20));
+  ASSERT_EQ(r, ReadResult::Frame);
+  EXPECT_EQ(f.sequence, 5u);
+  EXPECT_EQ(rig.rgbd->state(), SourceState::Streaming);
+}
+
+TEST(SimRig, RealtimePacesToTheClock) {
+  Rig rig = open("realtime=1,fps=4,truth=0");
+  RgbdFrame f;
+  const auto start = std::chrono::steady_clock::now();
+  ASSERT_EQ(rig.rgbd->read(f, milliseconds(1000)), ReadResult::Frame);
+  EXPECT_EQ(f.sequence, 0u);
+  EXPECT_EQ(rig.rgbd->read(f, milliseconds(0)), ReadResult::NoFrameYet)
+      << "the next frame is 250 ms away";
+  ASSERT_EQ(rig.rgbd->read(f, milliseconds(1000)), ReadResult::Frame);
+  EXPECT_EQ(f.sequence, 1u);
+  EXPECT_GE(std::chrono::steady_clock::now() - start, milliseconds(240));
+  EXPECT_GT(f.timestamp_ns, 0);
+}
+
+}  // namespace
+}  // namespace probeless::sim
