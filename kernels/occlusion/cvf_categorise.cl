@@ -42,7 +42,8 @@ __kernel void cvf_dilate_cols(__global const uchar* src, __global uchar* dst, in
   dst[y * w + x] = v;
 }
 
-// Erosion: infront/behind pixels with another on-object category nearby become process.
+// Erosion of the infront/behind border: infront pixels with a behind pixel nearby, and behind
+// pixels with an infront one, become process (process pixels do not erode).
 // Writes the categories and the process mask (for the band).
 __kernel void cvf_erode(__global const uchar* raw_bits, __global const uchar* near_bits,
                         __global uchar* categories, __global uchar* process, int w, int h) {
@@ -51,7 +52,7 @@ __kernel void cvf_erode(__global const uchar* raw_bits, __global const uchar* ne
   const int i = y * w + x;
   const uchar own = raw_bits[i];
   int c = own == 0 ? CAT_IGNORE : own == 1 ? CAT_BEHIND : own == 2 ? CAT_INFRONT : CAT_PROCESS;
-  if ((c == CAT_INFRONT || c == CAT_BEHIND) && (near_bits[i] & ~own) != 0) c = CAT_PROCESS;
+  if ((c == CAT_INFRONT || c == CAT_BEHIND) && (near_bits[i] & ~own & 3) != 0) c = CAT_PROCESS;
   categories[i] = (uchar)c;
   process[i] = c == CAT_PROCESS ? 1 : 0;
 }

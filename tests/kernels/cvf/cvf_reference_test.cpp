@@ -162,12 +162,18 @@ TEST(Categorise, ErodesInfrontAndBehindBordersByExactlyThePixelCount) {
     EXPECT_EQ(static_cast<Category>(cats.at(x, h - 1)), Category::Ignore);
     EXPECT_EQ(static_cast<Category>(cats.at(x, h - 3)), want) << x;
   }
-  // A single unknown pixel erodes a 7x7 square around it.
+  // A hole (unknown depth) erodes nothing: only the other known class does.
   DepthImage flat(w, 12, 500);
   flat.at(10, 6) = 0;
   const auto c2 = categorise_reference(flat, ImageF(w, 12, 1000.0F), {15.0F, 3});
   int process = 0;
   for (auto v : c2.elements()) process += v == std::uint8_t(Category::Process);
+  EXPECT_EQ(process, 1);
+  // A behind pixel inside an infront region erodes a 7x7 square around it.
+  flat.at(10, 6) = 2000;
+  const auto c3 = categorise_reference(flat, ImageF(w, 12, 1000.0F), {15.0F, 3});
+  process = 0;
+  for (auto v : c3.elements()) process += v == std::uint8_t(Category::Process);
   EXPECT_EQ(process, 49);
 }
 

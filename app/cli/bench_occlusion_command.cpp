@@ -1,0 +1,186 @@
+// probeless bench occlusion: CVF per 640x480 frame on the OpenCL device against a CPU CVF
+// built on OpenCV's guided filter, with the MSE of each on the same input so that speed never
+// hides a quality loss (docs/occlusion.md "Speed"). Every timed device frame ends with
+// queue.finish(): the numbers are what the pipeline waits, not enqueue time.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "app/cli/commands.hpp"
+#include "app/eval/cvf_opencv_reference.hpp"
+#include "app/eval/matte_metrics.hpp"
+#include "app/eval/middlebury_dataset.hpp"
+#include "kernels/occlusion/cvf_matte.hpp"
+#include "kernels/occlusion/cvf_reference.hpp"
+
+namespace probeless::cli {
+namespace {
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct Options {
+  std::string json;
+  std::string scene;  // Middlebury scene directory; empty = look in the shared data
+  int width = 640, height = 480;
+  int frames = 200, warmup = 20, reference_frames = 30;
+  int subsample = 0;  // 0 = CvfParams default
+};
+
+struct Timing {
+  double p50 = 0, p99 = 0;
+};
+
+Timing percentiles(std::vector<double> ms) {
+  std::sort(ms.begin(), ms.end());
+  auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * ms.size()))]; };
+  return {at(0.5), at(0.99)};
+}
+
+fs::path default_scene() {
+  const char* env = std::getenv("PROBELESS_DATA");
+  for (const char* base : {env, "../shared/data", "../../shared/data"}) {
+    if (!base || !*base) continue;
+    const fs::path p = fs::path(base) / "middlebury/2014q/Adirondack";
+    if (fs::exists(p / "im0.png")) return p;
+  }
+  return {};
+}
+
+// A synthetic stand-in when no Middlebury data is present: textured wall at 2.2 m, a box and
+// a disc in front, holes along their edges, the virtual plane slanting through them.
+eval::EvalFrame synthetic_frame(int w, int h) {
+  eval::EvalFrame f{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h), ImageF(w, h), ImageGray8(w, h)};
+  std::mt19937 rng(3);
+  std::normal_distribution<float> n(0.0F, 10.0F);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool disc = std::hypot(x - 0.35F * w, y - 0.5F * h) < 0.22F * h;
+      const bool box = x > 0.6F * w && x < 0.85F * w && y > 0.2F * h;
+      const float z = disc ? 1200.0F : box ? 1500.0F : 2200.0F;
+      const std::uint8_t base[3] = {std::uint8_t(disc ? 200 : box ? 60 : 120),
+                                    std::uint8_t(box ? 170 : 90), std::uint8_t(disc ? 40 : 150)};
+      for (int c = 0; c < 3; ++c)
+        f.color.at(x, y, c) = std::uint8_t(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
+      const float v = 1300.0F + 400.0F * x / w;
+      const bool on = x > 0.1F * w && x < 0.9F * w && y > 0.1F * h && y < 0.9F * h;
+      f.virtual_depth_mm.at(x, y) = on ? v : 0.0F;
+      f.truth.at(x, y) = on && z >= v ? 1.0F : 0.0F;
+      f.mask.at(x, y) = on ? 255 : 0;
+      f.real_depth_mm.at(x, y) = std::uint16_t(z + 0.2F * n(rng));
+    }
+  // Holes on the real silhouettes, as a structured-light sensor leaves them.
+  DepthImage holes = f.real_depth_mm;
+  for (int y = 1; y < h - 1; ++y)
+    for (int x = 1; x < w - 1; ++x)
+      if (std::abs(int(f.real_depth_mm.at(x + 1, y)) - int(f.real_depth_mm.at(x - 1, y))) > 100)
+        for (int k = -3; k <= 3; ++k) holes.at(std::clamp(x + k, 0, w - 1), y) = 0;
+  f.real_depth_mm = holes;
+  return f;
+}
+
+void run(const Options& o) {
+  eval::EvalFrame frame;
+  std::string input;
+  const fs::path scene_dir = o.scene.empty() ? default_scene() : fs::path(o.scene);
+  if (!scene_dir.empty()) {
+    const auto scene = eval::load_middlebury_scene(scene_dir);
+    auto cases = eval::middlebury_cases(scene, {1, 1});
+    frame = std::move(cases.front().frames.front());  // the plane patch
+    eval::crop_center(frame, o.width, o.height);
+    input = fmt::format("middlebury {} (plane patch, Kinect noise seed 1), {}x{}",
+                        scene_dir.string(), frame.color.width(), frame.color.height());
+  } else {
+    frame = synthetic_frame(o.width, o.height);
+    input = fmt::format("synthetic {}x{}", o.width, o.height);
+  }
+  occlusion::CvfParams params;
+  if (o.subsample > 0) params.wide.subsample = o.subsample;
+
+  ComputeContext ctx;
+  spdlog::info("bench occlusion: {} on {}", input, ctx.describe());
+  occlusion::CvfMatte cvf(ctx, params);
+  auto& q = ctx.queue();
+  DeviceImageRGB8 color(ctx, frame.color);
+  DeviceDepthImage depth(ctx, frame.real_depth_mm);
+  DeviceImageF virt(ctx, frame.virtual_depth_mm), alpha;
+  std::vector<double> device_ms;
+  for (int i = 0; i < o.warmup + o.frames; ++i) {
+    const auto t0 = Clock::now();
+    cvf.process({&color, &depth, &virt}, alpha);
+    q.finish();
+    if (i >= o.warmup)
+      device_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  const auto device_alpha = alpha.download(q);
+
+  std::vector<double> ref_ms;
+  ImageF ref_alpha;
+  for (int i = 0; i < 2 + o.reference_frames; ++i) {
+    const auto t0 = Clock::now();
+    ref_alpha = eval::cvf_opencv_reference(frame.color, frame.real_depth_mm,
+                                           frame.virtual_depth_mm, params);
+    if (i >= 2) ref_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  occlusion::CvfParams exact = params;
+  exact.wide.subsample = 1;
+  const auto exact_alpha =
+      occlusion::cvf_reference(frame.color, frame.real_depth_mm, frame.virtual_depth_mm, exact).alpha;
+
+  const double mse_device = eval::matte_mse(device_alpha, frame.truth, frame.mask).value_or(0);
+  const double mse_ref = eval::matte_mse(ref_alpha, frame.truth, frame.mask).value_or(0);
+  const double mse_exact = eval::matte_mse(exact_alpha, frame.truth, frame.mask).value_or(0);
+  const auto td = percentiles(device_ms), tr = percentiles(ref_ms);
+  const double speedup = tr.p50 / td.p50;
+
+  std::cout << fmt::format("input: {}\ndevice: {}\n", input, ctx.describe())
+            << fmt::format("{:<34} {:>9} {:>9} {:>10}\n", "", "p50 ms", "p99 ms", "MSE x1e3")
+            << fmt::format("{:<34} {:>9.2f} {:>9.2f} {:>10.4f}\n",
+                           fmt::format("cvf (OpenCL, wide subsample {})", params.wide.subsample),
+                           td.p50, td.p99, mse_device * 1e3)
+            << fmt::format("{:<34} {:>9.2f} {:>9.2f} {:>10.4f}\n", "opencv reference (CPU)", tr.p50,
+                           tr.p99, mse_ref * 1e3)
+            << fmt::format("{:<34} {:>9} {:>9} {:>10.4f}\n", "exact reference (cvf_reference)", "-",
+                           "-", mse_exact * 1e3)
+            << fmt::format("speedup (p50): {:.2f}x; cvf MSE / exact MSE: {:.4f}\n", speedup,
+                           mse_exact > 0 ? mse_device / mse_exact : 1.0);
+  if (!o.json.empty()) {
+    nlohmann::json j;
+    j["cvf"] = {{"p50_ms", td.p50}, {"p99_ms", td.p99}, {"mse", mse_device},
+                {"wide_subsample", params.wide.subsample}};
+    j["opencv_reference"] = {{"p50_ms", tr.p50}, {"p99_ms", tr.p99}, {"mse", mse_ref}};
+    j["exact_reference"] = {{"mse", mse_exact}};
+    j["speedup"] = speedup;
+    j["input"] = input;
+    j["device"] = ctx.describe();
+    std::ofstream out(o.json);
+    out << j.dump(2) << "\n";
+    if (!out) throw CommandError("cannot write " + o.json);
+  }
+}
+
+}  // namespace
+
+void add_bench_occlusion_command(CLI::App& bench) {
+  auto o = std::make_shared<Options>();
+  auto* cmd = bench.add_subcommand(
+      "occlusion", "CVF occlusion per frame on the OpenCL device vs a CPU reference on OpenCV");
+  cmd->add_option("--json", o->json, "Write the numbers as JSON to this file");
+  cmd->add_option("--scene", o->scene,
+                  "Middlebury scene directory (default: shared data's 2014q/Adirondack, "
+                  "else a synthetic frame)");
+  cmd->add_option("--frames", o->frames, "Timed device frames")->capture_default_str();
+  cmd->add_option("--reference-frames", o->reference_frames, "Timed OpenCV frames")
+      ->capture_default_str();
+  cmd->add_option("--cvf-subsample", o->subsample,
+                  "CVF's wide filter subsampling (1 = exact, 2 = fast guided filter)");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace probeless::cli

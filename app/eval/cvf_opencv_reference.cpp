@@ -1,0 +1,82 @@
+#include "app/eval/cvf_opencv_reference.hpp"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/ximgproc/edge_filter.hpp>
+#include <vector>
+
+#include "kernels/occlusion/categorise_reference.hpp"
+#include "kernels/occlusion/cvf_reference.hpp"
+
+namespace probeless::eval {
+using namespace probeless::occlusion;
+
+ImageF cvf_opencv_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+                            const ImageF& virtual_depth_mm, const CvfParams& p) {
+  const int w = color.width(), h = color.height();
+  const int n = w * h;
+  const cv::Mat rgb(h, w, CV_8UC3, const_cast<std::uint8_t*>(color.data()));
+  cv::Mat cat(h, w, CV_8U), infront(h, w, CV_8U), behind(h, w, CV_8U), process(h, w, CV_8U);
+  for (int i = 0; i < n; ++i) {
+    const auto c = raw_category(real_depth_mm.data()[i], virtual_depth_mm.data()[i],
+                                p.categorise.depth_tolerance_mm);
+    cat.data[i] = static_cast<std::uint8_t>(c);
+    infront.data[i] = c == Category::Infront ? 255 : 0;
+    behind.data[i] = c == Category::Behind ? 255 : 0;
+    process.data[i] = c == Category::Process ? 255 : 0;
+  }
+  if (p.categorise.erosion_px > 0) {
+    const auto k = cv::getStructuringElement(
+        cv::MORPH_RECT, {2 * p.categorise.erosion_px + 1, 2 * p.categorise.erosion_px + 1});
+    cv::Mat near_in, near_be;
+    cv::dilate(infront, near_in, k);
+    cv::dilate(behind, near_be, k);
+    for (int i = 0; i < n; ++i) {
+      const auto c = static_cast<Category>(cat.data[i]);
+      if ((c == Category::Infront && near_be.data[i]) || (c == Category::Behind && near_in.data[i])) {
+        cat.data[i] = static_cast<std::uint8_t>(Category::Process);
+        process.data[i] = 255;
+      }
+    }
+  }
+  cv::Mat band;
+  cv::dilate(process, band,
+             cv::getStructuringElement(cv::MORPH_RECT, {2 * p.band_px + 1, 2 * p.band_px + 1}));
+  const int b = p.bins_per_channel;
+  ColourModels models{b, std::vector<std::uint32_t>(b * b * b), std::vector<std::uint32_t>(b * b * b)};
+  std::vector<int> bins(n);
+  for (int i = 0; i < n; ++i) {
+    const std::uint8_t* px = color.data() + 3 * i;
+    bins[i] = colour_bin(px[0], px[1], px[2], b);
+    const auto c = static_cast<Category>(cat.data[i]);
+    if (band.data[i] && (c == Category::Infront || c == Category::Behind))
+      (c == Category::Infront ? models.infront : models.behind)[bins[i]]++;
+  }
+  const auto min_samples = static_cast<std::uint32_t>(std::max(1, p.min_samples));
+  const bool valid = models.infront_total() >= min_samples && models.behind_total() >= min_samples;
+  cv::Mat cost(h, w, CV_32F);
+  for (int i = 0; i < n; ++i)
+    cost.ptr<float>()[i] = cvf_cost(static_cast<Category>(cat.data[i]), bins[i], models, valid,
+                                    real_depth_mm.data()[i], virtual_depth_mm.data()[i]);
+  cv::Mat guide;
+  rgb.convertTo(guide, CV_32FC3, 1.0 / 255.0);
+  cv::Mat wide, feather;
+  cv::ximgproc::guidedFilter(guide, cost, wide, p.wide.radius, p.wide.eps, CV_32F);
+  cv::Mat mask(h, w, CV_32F);
+  for (int i = 0; i < n; ++i) {
+    const auto c = static_cast<Category>(cat.data[i]);
+    mask.ptr<float>()[i] = c == Category::Infront  ? 1.0F
+                           : c == Category::Behind ? 0.0F
+                           : wide.ptr<float>()[i] > 0.5F ? 1.0F
+                                                        : 0.0F;
+  }
+  cv::ximgproc::guidedFilter(guide, mask, feather, p.feather.radius, p.feather.eps, CV_32F);
+  ImageF alpha(w, h);
+  for (int i = 0; i < n; ++i)
+    alpha.data()[i] = virtual_depth_mm.data()[i] > 0.0F
+                          ? std::clamp(1.0F - feather.ptr<float>()[i], 0.0F, 1.0F)
+                          : 0.0F;
+  return alpha;
+}
+
+}  // namespace probeless::eval

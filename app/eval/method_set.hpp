@@ -1,0 +1,23 @@
+#pragma once
+// The occlusion methods the evaluator and the benchmark compare, by config name.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "kernels/occlusion/cvf_params.hpp"
+#include "kernels/occlusion/occlusion_method.hpp"
+
+namespace probeless::eval {
+
+// In the order of the report: cvf direct1 direct2 guided bilateral crabb arcore_soft meta_soft.
+const std::vector<std::string>& all_method_names();
+
+struct MethodSettings {
+  occlusion::CvfParams cvf;  // its categorise params are shared by guided and bilateral
+};
+
+// Throws std::invalid_argument for an unknown name.
+std::unique_ptr<occlusion::OcclusionMethod> make_method(ComputeContext& ctx, const std::string& name,
+                                                        const MethodSettings& settings = {});
+
+}  // namespace probeless::eval

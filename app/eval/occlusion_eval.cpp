@@ -1,0 +1,193 @@
+#include "app/eval/occlusion_eval.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "app/eval/alphamatting_dataset.hpp"
+#include "app/eval/eval_plots.hpp"
+#include "app/eval/frames_dataset.hpp"
+#include "app/eval/matte_metrics.hpp"
+#include "app/eval/middlebury_dataset.hpp"
+
+namespace probeless::eval {
+namespace fs = std::filesystem;
+
+std::vector<EvalCase> load_cases(const std::string& spec, const EvalOptions& options,
+                                 std::string* protocol) {
+  const auto colon = spec.find(':');
+  if (colon == std::string::npos || colon + 1 == spec.size())
+    throw std::invalid_argument("dataset '" + spec +
+                                "': expected middlebury:DIR, alphamatting:DIR or frames:DIR");
+  const std::string kind = spec.substr(0, colon);
+  const fs::path dir = spec.substr(colon + 1);
+  std::vector<EvalCase> cases;
+  if (kind == "middlebury") {
+    auto scenes = find_middlebury_scenes(dir);
+    if (options.max_scenes > 0 && scenes.size() > static_cast<std::size_t>(options.max_scenes))
+      scenes.resize(options.max_scenes);
+    for (const auto& s : scenes) {
+      spdlog::info("eval: loading {}", s.string());
+      auto scene = load_middlebury_scene(s);
+      // Scenes of the same name in both layouts stay apart.
+      if (s.parent_path().filename() == "v2" || s.parent_path().filename() == "2014q")
+        scene.name = s.parent_path().filename().string() + "/" + scene.name;
+      for (auto& c : middlebury_cases(scene, {options.frames, options.seed}))
+        cases.push_back(std::move(c));
+    }
+  } else if (kind == "alphamatting") {
+    cases = alphamatting_cases(dir);
+    if (options.max_scenes > 0 && cases.size() > static_cast<std::size_t>(options.max_scenes))
+      cases.resize(options.max_scenes);
+  } else if (kind == "frames") {
+    cases = recorded_cases(dir);
+  } else {
+    throw std::invalid_argument("dataset kind '" + kind +
+                                "' unknown: expected middlebury, alphamatting or frames");
+  }
+  for (auto& c : cases)
+    for (auto& f : c.frames) crop_center(f, options.crop_width, options.crop_height);
+  if (protocol) *protocol = kind;
+  return cases;
+}
+
+EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
+                    const EvalOptions& options) {
+  EvalReport report;
+  report.methods = options.methods;
+  std::vector<std::unique_ptr<occlusion::OcclusionMethod>> methods;
+  for (const auto& name : options.methods) methods.push_back(make_method(ctx, name, options.settings));
+  auto& queue = ctx.queue();
+
+  for (const auto& c : cases) {
+    spdlog::info("eval: {} ({} frame{})", c.name, c.frames.size(), c.frames.size() == 1 ? "" : "s");
+    std::vector<std::vector<ImageF>> alphas(methods.size());
+    DeviceImageRGB8 color;
+    DeviceDepthImage depth;
+    DeviceImageF virt, alpha;
+    for (const auto& f : c.frames) {
+      color.upload(queue, f.color);
+      depth.upload(queue, f.real_depth_mm);
+      virt.upload(queue, f.virtual_depth_mm);
+      for (std::size_t m = 0; m < methods.size(); ++m) {
+        methods[m]->process({&color, &depth, &virt}, alpha);
+        alphas[m].push_back(alpha.download(queue));
+      }
+    }
+    SceneScores scene{c.name, {}};
+    std::vector<ImageF> truths;
+    std::vector<ImageGray8> masks, bands;
+    for (const auto& f : c.frames) {
+      truths.push_back(f.truth);
+      masks.push_back(f.mask);
+      bands.push_back(silhouette_band(f.truth, f.mask, options.boundary_px));
+    }
+    for (std::size_t m = 0; m < methods.size(); ++m) {
+      MethodScore s;
+      double mse_sum = 0, band_sum = 0, sad_sum = 0;
+      int mse_n = 0, band_n = 0;
+      for (std::size_t k = 0; k < c.frames.size(); ++k) {
+        if (auto v = matte_mse(alphas[m][k], truths[k], masks[k])) {
+          mse_sum += *v;
+          ++mse_n;
+        }
+        if (auto v = matte_mse(alphas[m][k], truths[k], bands[k])) {
+          band_sum += *v;
+          ++band_n;
+        }
+        sad_sum += matte_sad(alphas[m][k], truths[k], masks[k]);
+      }
+      s.mse = mse_n ? mse_sum / mse_n : 0.0;
+      if (band_n) s.boundary_mse = band_sum / band_n;
+      s.temporal_noise = temporal_noise(alphas[m], truths, masks);
+      if (c.report_sad) s.sad = sad_sum / static_cast<double>(c.frames.size());
+      scene.methods[options.methods[m]] = s;
+    }
+    if (!options.plots_dir.empty()) write_example_mattes(options.plots_dir, c, options.methods, alphas);
+    report.scenes.push_back(std::move(scene));
+  }
+
+  for (const auto& name : options.methods) {
+    MethodScore mean;
+    double bsum = 0, tsum = 0, ssum = 0;
+    int bn = 0, tn = 0, sn = 0;
+    for (const auto& sc : report.scenes) {
+      const auto& s = sc.methods.at(name);
+      mean.mse += s.mse / static_cast<double>(report.scenes.size());
+      if (s.boundary_mse) bsum += *s.boundary_mse, ++bn;
+      if (s.temporal_noise) tsum += *s.temporal_noise, ++tn;
+      if (s.sad) ssum += *s.sad, ++sn;
+    }
+    if (bn) mean.boundary_mse = bsum / bn;
+    if (tn) mean.temporal_noise = tsum / tn;
+    if (sn) mean.sad = ssum / sn;
+    report.mean[name] = mean;
+  }
+  if (!options.plots_dir.empty()) write_bar_plots(options.plots_dir, report);
+  return report;
+}
+
+namespace {
+
+std::string table(const EvalReport& r, const char* title, double scale,
+                  std::optional<double> (*get)(const MethodScore&)) {
+  bool any = false;
+  for (const auto& [n, s] : r.mean) any = any || get(s).has_value();
+  if (!any) return {};
+  std::size_t name_w = 8;
+  for (const auto& sc : r.scenes) name_w = std::max(name_w, sc.name.size());
+  std::string out = fmt::format("{:<{}}", title, name_w);
+  for (const auto& m : r.methods) out += fmt::format(" {:>11}", m);
+  out += "\n";
+  auto row = [&](const std::string& name, const std::map<std::string, MethodScore>& scores) {
+    out += fmt::format("{:<{}}", name, name_w);
+    for (const auto& m : r.methods) {
+      const auto v = get(scores.at(m));
+      out += v ? fmt::format(" {:>11.3f}", *v * scale) : fmt::format(" {:>11}", "-");
+    }
+    out += "\n";
+  };
+  for (const auto& sc : r.scenes) row(sc.name, sc.methods);
+  row("mean", r.mean);
+  return out + "\n";
+}
+
+}  // namespace
+
+std::string format_report(const EvalReport& r) {
+  std::string out;
+  out += table(r, "MSE x1e3", 1e3, [](const MethodScore& s) { return std::optional(s.mse); });
+  out += table(r, "boundary MSE x1e3", 1e3,
+               [](const MethodScore& s) { return s.boundary_mse; });
+  out += table(r, "temporal noise x1e3", 1e3,
+               [](const MethodScore& s) { return s.temporal_noise; });
+  out += table(r, "SAD /1000", 1.0, [](const MethodScore& s) { return s.sad; });
+  return out;
+}
+
+nlohmann::json report_json(const EvalReport& r) {
+  auto score = [](const MethodScore& s) {
+    nlohmann::json j;
+    j["mse"] = s.mse;
+    if (s.boundary_mse) j["boundary_mse"] = *s.boundary_mse;
+    if (s.temporal_noise) j["temporal_noise"] = *s.temporal_noise;
+    if (s.sad) j["sad"] = *s.sad;
+    return j;
+  };
+  nlohmann::json j;
+  j["protocol"] = r.protocol;
+  j["scenes"] = nlohmann::json::array();
+  for (const auto& sc : r.scenes) {
+    nlohmann::json methods = nlohmann::json::object();
+    for (const auto& m : r.methods) methods[m] = score(sc.methods.at(m));
+    j["scenes"].push_back({{"name", sc.name}, {"methods", methods}});
+  }
+  nlohmann::json mean = nlohmann::json::object();
+  for (const auto& m : r.methods) mean[m] = score(r.mean.at(m));
+  j["mean"] = mean;
+  return j;
+}
+
+}  // namespace probeless::eval

@@ -1,0 +1,62 @@
+#pragma once
+// `probeless eval occlusion`: runs every occlusion method over the cases of a protocol and
+// scores the mattes (app/eval/matte_metrics.hpp). docs/occlusion.md "Evaluation".
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/eval/eval_case.hpp"
+#include "app/eval/method_set.hpp"
+#include "kernels/runtime/compute_context.hpp"
+
+namespace probeless::eval {
+
+struct MethodScore {
+  double mse = 0;
+  std::optional<double> boundary_mse;    // absent when the case has no silhouette
+  std::optional<double> temporal_noise;  // absent with one frame
+  std::optional<double> sad;             // matting cases
+};
+
+struct SceneScores {
+  std::string name;
+  std::map<std::string, MethodScore> methods;
+};
+
+struct EvalReport {
+  std::string protocol;
+  std::vector<std::string> methods;  // report order
+  std::vector<SceneScores> scenes;
+  std::map<std::string, MethodScore> mean;  // arithmetic mean over scenes
+};
+
+struct EvalOptions {
+  std::vector<std::string> methods = all_method_names();
+  MethodSettings settings;
+  int frames = 8;  // K (Middlebury)
+  std::uint64_t seed = 1;
+  int crop_width = 0, crop_height = 0;  // centre crop; 0 = whole frames
+  int boundary_px = 10;
+  int max_scenes = 0;                    // 0 = all
+  std::filesystem::path plots_dir;       // empty = no plots
+};
+
+// "middlebury:DIR", "alphamatting:DIR" or "frames:DIR". Throws std::invalid_argument for a
+// bad spec, ImageFileError for a malformed dataset.
+std::vector<EvalCase> load_cases(const std::string& dataset_spec, const EvalOptions& options,
+                                 std::string* protocol = nullptr);
+
+// Runs and scores; writes example mattes into options.plots_dir when set.
+EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
+                    const EvalOptions& options);
+
+// One table per metric: scenes down, methods across, then the mean.
+std::string format_report(const EvalReport& report);
+nlohmann::json report_json(const EvalReport& report);
+
+}  // namespace probeless::eval
