@@ -12,5 +12,9 @@ struct CommandError : std::runtime_error {
 
 // probeless bench sim [--frames N --sim OPTS --json FILE] (bench_sim_command.cpp)
 void add_bench_sim_command(CLI::App& bench);
+// probeless eval occlusion --dataset KIND:DIR [--json F --plots D] (eval_occlusion_command.cpp)
+void add_eval_occlusion_command(CLI::App& eval);
+// probeless bench occlusion [--json FILE] (bench_occlusion_command.cpp)
+void add_bench_occlusion_command(CLI::App& bench);
 
 }  // namespace probeless::cli

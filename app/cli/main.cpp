@@ -17,9 +17,10 @@ int main(int argc, char** argv) {
   auto* bench = app.add_subcommand("bench", "Benchmarks that print numbers");
   bench->require_subcommand(1);
   probeless::cli::add_bench_sim_command(*bench);
+  probeless::cli::add_bench_occlusion_command(*bench);
   auto* eval = app.add_subcommand("eval", "Evaluations against ground truth");
   eval->require_subcommand(1);
-  (void)eval;
+  probeless::cli::add_eval_occlusion_command(*eval);
 
   app.parse_complete_callback([&] { probeless::cli::setup_logging(log_level.c_str()); });
   try {
