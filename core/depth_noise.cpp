@@ -4,6 +4,9 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -76,27 +79,64 @@ double round_positive(double x) { return static_cast<double>(static_cast<std::in
 
 // The projector's dot pattern: one dot per spacing x spacing cell at a fixed pseudo-random
 // offset (a stand-in for the Kinect speckle image simkinect reads). Fixed hardware: it does
-// not depend on the seed.
-struct DotGrid {
-  int cols = 0, rows = 0;
-  std::vector<int> x, y;  // per cell, row-major; -1 when the dot falls outside the image
-  DotGrid(int width, int height, int spacing)
-      : cols((width + spacing - 1) / spacing),
-        rows((height + spacing - 1) / spacing),
-        x(static_cast<std::size_t>(cols) * rows, -1),
-        y(x.size(), -1) {
+// not depend on the seed. With it, what the window rule needs of the geometry: the dots whose
+// window fits the image in raster order (simkinect's scan), and each one's neighbours.
+struct DotPattern {
+  struct Neighbour {
+    std::uint32_t dot;
+    std::uint32_t r2;  // squared distance to the centre dot, px^2
+  };
+  std::vector<int> x, y;              // per dot (one per cell, row-major), -1: outside the image
+  std::vector<std::uint32_t> scan;    // dots whose window fits, in raster order
+  std::vector<std::uint32_t> first;   // per scan entry: its neighbours' start in `neighbours`
+  std::vector<Neighbour> neighbours;  // the dots in each window, the centre included
+
+  DotPattern(int width, int height, int spacing, int half) {
+    const int cols = (width + spacing - 1) / spacing, rows = (height + spacing - 1) / spacing;
+    x.assign(static_cast<std::size_t>(cols) * rows, -1);
+    y.assign(x.size(), -1);
+    std::vector<std::vector<std::uint32_t>> by_row(height);
     for (int cy = 0; cy < rows; ++cy) {
       for (int cx = 0; cx < cols; ++cx) {
         const std::uint64_t h = mix64(0x5eed0f5eedULL ^ (static_cast<std::uint64_t>(cy) << 32) ^
                                       static_cast<std::uint64_t>(cx));
         const std::size_t k = static_cast<std::size_t>(cy) * cols + cx;
-        x[k] = cx * spacing + static_cast<int>(h % spacing);
-        y[k] = cy * spacing + static_cast<int>((h >> 32) % spacing);
-        if (x[k] >= width || y[k] >= height) x[k] = y[k] = -1;
+        const int dx = cx * spacing + static_cast<int>(h % spacing);
+        const int dy = cy * spacing + static_cast<int>((h >> 32) % spacing);
+        if (dx >= width || dy >= height) continue;
+        x[k] = dx;
+        y[k] = dy;
+        if (dx - half >= 0 && dy - half >= 0 && dx + half < width && dy + half < height)
+          by_row[dy].push_back(static_cast<std::uint32_t>(k));
       }
     }
+    for (const auto& row : by_row) scan.insert(scan.end(), row.begin(), row.end());
+    for (std::uint32_t k : scan) {
+      first.push_back(static_cast<std::uint32_t>(neighbours.size()));
+      const int cx0 = std::max(0, (x[k] - half) / spacing), cx1 = std::min(cols - 1, (x[k] + half) / spacing);
+      const int cy0 = std::max(0, (y[k] - half) / spacing), cy1 = std::min(rows - 1, (y[k] + half) / spacing);
+      for (int cy = cy0; cy <= cy1; ++cy) {
+        for (int cx = cx0; cx <= cx1; ++cx) {
+          const std::size_t j = static_cast<std::size_t>(cy) * cols + cx;
+          const int ox = x[j] - x[k], oy = y[j] - y[k];
+          if (x[j] < 0 || std::abs(ox) > half || std::abs(oy) > half) continue;
+          neighbours.push_back({static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(ox * ox + oy * oy)});
+        }
+      }
+    }
+    first.push_back(static_cast<std::uint32_t>(neighbours.size()));
   }
 };
+
+// Patterns by image size and window: built once (a few ms), then shared by every call.
+std::shared_ptr<const DotPattern> dot_pattern(int width, int height, int spacing, int half) {
+  static std::mutex mutex;
+  static std::map<std::array<int, 4>, std::shared_ptr<const DotPattern>> cache;
+  std::lock_guard lock(mutex);
+  auto& entry = cache[{width, height, spacing, half}];
+  if (!entry) entry = std::make_shared<const DotPattern>(width, height, spacing, half);
+  return entry;
+}
 
 }  // namespace
 
@@ -130,7 +170,9 @@ DepthImage apply_kinect_noise(const DepthImage& clean, double focal_px, std::uin
 
   // Per dot: the shifted, quantised disparity the window rule compares, and the noisy one it
   // outputs. NaN = no valid measurement.
-  const DotGrid dots(w, h, p.dot_spacing_px);
+  const int half = p.window_size_px / 2;
+  const std::shared_ptr<const DotPattern> pattern = dot_pattern(w, h, p.dot_spacing_px, half);
+  const DotPattern& dots = *pattern;
   const float kInvalid = std::numeric_limits<float>::quiet_NaN();
   std::vector<float> rule_d(dots.x.size(), kInvalid), out_d(dots.x.size(), kInvalid);
   for (std::size_t k = 0; k < dots.x.size(); ++k) {
@@ -172,8 +214,6 @@ DepthImage apply_kinect_noise(const DepthImage& clean, double focal_px, std::uin
   // order: survivors claim the pixels around them that no nearer survivor has claimed
   // (weight 1 / (1 + r^2); earlier dots win ties, as in simkinect's scan). Window sums come
   // from per-column sums over the window's rows, slid down the image row by row.
-  const int half = p.window_size_px / 2;
-  const int sp = p.dot_spacing_px;
   const int fr = p.fill_radius_px;
   struct FillOffset {
     int dx, dy;
@@ -198,50 +238,46 @@ DepthImage apply_kinect_noise(const DepthImage& clean, double focal_px, std::uin
       column_count[x] += sign * (row[x] > 0);
     }
   };
-  for (int y = 0; y < std::min(half, h); ++y) add_row(y, 1);
-  for (int y = 0; y < h; ++y) {
-    if (y + half < h) add_row(y + half, 1);
-    if (y - half - 1 >= 0) add_row(y - half - 1, -1);
-    if (y - half < 0 || y + half >= h) continue;
-    const int cy = y / sp;
-    for (int cx = 0; cx < dots.cols; ++cx) {
-      const std::size_t k = static_cast<std::size_t>(cy) * dots.cols + cx;
-      const int x = dots.x[k];
-      if (x < 0 || dots.y[k] != y) continue;
-      if (std::isnan(rule_d[k]) || std::isnan(out_d[k])) continue;
-      if (x - half < 0 || x + half >= w) continue;
-      double sum = 0;
-      int count = 0;
-      for (int i = x - half; i <= x + half; ++i) {
-        sum += column_sum[i];
-        count += column_count[i];
-      }
-      if (count == 0) continue;
-      const double mean = sum / count;
-      int n_dots = 0, n_valid = 0, n_inliers = 0;
-      for (int ny = std::max(0, (y - half) / sp); ny <= std::min(dots.rows - 1, (y + half) / sp); ++ny) {
-        for (int nx = std::max(0, (x - half) / sp); nx <= std::min(dots.cols - 1, (x + half) / sp); ++nx) {
-          const std::size_t j = static_cast<std::size_t>(ny) * dots.cols + nx;
-          const int ox = dots.x[j] - x, oy = dots.y[j] - y;
-          if (dots.x[j] < 0 || std::abs(ox) > half || std::abs(oy) > half) continue;
-          ++n_dots;
-          if (std::isnan(rule_d[j])) continue;
-          ++n_valid;
-          n_inliers += std::abs(rule_d[j] - mean) < tolerance[ox * ox + oy * oy];
-        }
-      }
-      const double needed = n_dots / p.window_valid_ratio;
-      if (!(n_valid > needed && n_inliers > needed)) continue;
-      const bool inside = x >= fr && y >= fr && x + fr < w && y + fr < h;
-      for (const FillOffset& o : fill) {
-        const int px = x + o.dx, py = y + o.dy;
-        if (!inside && (px < 0 || py < 0 || px >= w || py >= h)) continue;
-        const std::size_t i = static_cast<std::size_t>(py) * w + px;
-        if (fill_weight[i] < o.weight) {
-          fill_weight[i] = o.weight;
-          result[i] = out_d[k];
-        }
-      }
+  int window_row = -1;  // the centre row the column sums are for
+  for (std::size_t s = 0; s < dots.scan.size(); ++s) {
+    const std::uint32_t k = dots.scan[s];
+    const int x = dots.x[k], y = dots.y[k];
+    if (std::isnan(rule_d[k]) || std::isnan(out_d[k])) continue;
+    if (window_row < 0) {
+      for (int r = y - half; r <= y + half; ++r) add_row(r, 1);
+      window_row = y;
+    }
+    for (; window_row < y; ++window_row) {
+      add_row(window_row + half + 1, 1);
+      add_row(window_row - half, -1);
+    }
+    double sum = 0;
+    int count = 0;
+    for (int i = x - half; i <= x + half; ++i) {
+      sum += column_sum[i];
+      count += column_count[i];
+    }
+    if (count == 0) continue;
+    const double mean = sum / count;
+    int n_valid = 0, n_inliers = 0;
+    for (std::uint32_t n = dots.first[s]; n < dots.first[s + 1]; ++n) {
+      const float d = rule_d[dots.neighbours[n].dot];
+      if (std::isnan(d)) continue;
+      ++n_valid;
+      n_inliers += std::abs(d - mean) < tolerance[dots.neighbours[n].r2];
+    }
+    const double needed = (dots.first[s + 1] - dots.first[s]) / p.window_valid_ratio;
+    if (!(n_valid > needed && n_inliers > needed)) continue;
+    const bool inside = x >= fr && y >= fr && x + fr < w && y + fr < h;
+    const float value = out_d[k];
+    for (const FillOffset& o : fill) {
+      const int px = x + o.dx, py = y + o.dy;
+      if (!inside && (px < 0 || py < 0 || px >= w || py >= h)) continue;
+      const std::size_t i = static_cast<std::size_t>(py) * w + px;
+      const float old = fill_weight[i];
+      const bool take = old < o.weight;
+      fill_weight[i] = take ? o.weight : old;
+      result[i] = take ? value : result[i];
     }
   }
 

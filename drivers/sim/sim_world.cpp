@@ -6,6 +6,7 @@
 
 #include "drivers/sim/sim_random.hpp"
 #include "drivers/sim/sim_trace.hpp"
+#include "drivers/sim/worker_pool.hpp"
 
 namespace probeless::sim {
 
@@ -18,9 +19,10 @@ constexpr float kPi = std::numbers::pi_v<float>;
 const Vec3 kRoomLo{-2.5f, -2.5f, 0.0f};
 const Vec3 kRoomHi{2.5f, 2.5f, 2.7f};
 constexpr double kTableTop = 0.75;
-const Eigen::Vector3d kAnchor{0.0, 0.4, kTableTop};
+const Eigen::Vector3d kAnchor{0.0, 0.6, kTableTop};
 constexpr double kRigHeight = 1.15;    // colour camera centre above the floor
-constexpr double kOrbitRadius = 1.9;   // rig to anchor, horizontally
+// Rig to anchor, horizontally: the back wall is then 3.6 m away, inside the depth range.
+constexpr double kOrbitRadius = 1.7;
 constexpr double kOrbitPeriod = 60.0;  // seconds per revolution ("slow orbit")
 // Scripted events: lamp B is on for the first half of every period.
 constexpr double kLampPeriod = 12.0;
@@ -195,7 +197,7 @@ void SimWorld::build_geometry(WorldBuilder& b) {
 
   // Floor: oak planks, and a patterned rug under the table.
   const AlbedoFn floor = [s](const Vec3& p) -> Vec3 {
-    const float rx0 = -1.3f, rx1 = 1.3f, ry0 = -0.7f, ry1 = 1.5f;
+    const float rx0 = -1.3f, rx1 = 1.3f, ry0 = -0.5f, ry1 = 1.7f;
     if (p.x() > rx0 && p.x() < rx1 && p.y() > ry0 && p.y() < ry1) {
       const float border = std::min({p.x() - rx0, rx1 - p.x(), p.y() - ry0, ry1 - p.y()});
       const float weave = 0.85f + 0.3f * value_noise(p.x() * 300.0f, p.y() * 300.0f, s + 11);
@@ -276,14 +278,15 @@ void SimWorld::build_geometry(WorldBuilder& b) {
   };
   const AlbedoFn metal = [](const Vec3&) -> Vec3 { return {0.07f, 0.07f, 0.08f}; };
   const float top = static_cast<float>(kTableTop);
-  const Vec3 table_lo(-0.75f, 0.0f, top - 0.03f), table_hi(0.75f, 0.8f, top);
+  const float ay = static_cast<float>(kAnchor.y());  // the table is centred on the anchor
+  const Vec3 table_lo(-0.75f, ay - 0.4f, top - 0.03f), table_hi(0.75f, ay + 0.4f, top);
   boxes_.push_back(b.add_box(table_lo, table_hi, kAllFaces & ~face_bit(2, 1), 0.01f, 0.05f, table_wood));
   {  // the top face, finer: virtual objects stand on it and their shadows fall on it
     Box& t = boxes_.back();
     t.patch[5] = b.add_face(table_lo, table_hi, 2, 1, false, 0.004f, 0.025f, table_wood);
   }
   for (float lx : {-0.7f, 0.65f})
-    for (float ly : {0.05f, 0.7f})
+    for (float ly : {ay - 0.35f, ay + 0.3f})
       boxes_.push_back(b.add_box({lx, ly, 0.0f}, {lx + 0.05f, ly + 0.05f, top - 0.03f},
                                  kAllFaces & ~(face_bit(2, 0) | face_bit(2, 1)), 0.01f, 0.05f, metal));
 
@@ -296,7 +299,7 @@ void SimWorld::build_geometry(WorldBuilder& b) {
     }
     return Vec3(0.62f, 0.07f, 0.05f) * (0.9f + 0.2f * value_noise(p.x() * 80, p.y() * 80 + p.z() * 80, s + 71));
   };
-  boxes_.push_back(b.add_box({-0.6f, 0.5f, top}, {-0.4f, 0.68f, top + 0.18f},
+  boxes_.push_back(b.add_box({-0.6f, ay + 0.1f, top}, {-0.4f, ay + 0.28f, top + 0.18f},
                              kAllFaces & ~face_bit(2, 0), 0.005f, 0.03f, red_box));
 
   // A black television on the back wall: too dark for structured light.
@@ -329,7 +332,7 @@ void SimWorld::build_geometry(WorldBuilder& b) {
                              0.1f, fabric));
 
   // A mirror ball right of the anchor: reflections for the light estimate, no depth.
-  spheres_.push_back({{0.45f, 0.55f, top + 0.07f}, 0.07f, Vec3(0.85f, 0.85f, 0.86f)});
+  spheres_.push_back({{0.45f, ay + 0.15f, top + 0.07f}, 0.07f, Vec3(0.85f, 0.85f, 0.86f)});
 
   for (std::size_t i = 0; i < boxes_.size(); ++i)
     static_prims_.push_back({PrimRef::Kind::Box, static_cast<std::uint8_t>(i)});
@@ -344,6 +347,13 @@ void SimWorld::build_geometry(WorldBuilder& b) {
 namespace probeless::sim {
 
 namespace {
+
+// Whether p lies inside one of the boxes (under an object standing on a surface).
+bool inside_any(const std::vector<Box>& boxes, const Vec3& p) {
+  for (const Box& b : boxes)
+    if ((p.array() > b.lo.array()).all() && (p.array() < b.hi.array()).all()) return true;
+  return false;
+}
 
 // Whether anything static blocks the segment from r.o to r.o + t_max r.d.
 bool occluded(const Ray& r, const SimWorld& w, float t_max) {
@@ -366,6 +376,41 @@ struct LightGrid {
   int nu = 0, nv = 0;
   std::vector<std::vector<Vec3>> irradiance;  // [light][j * nu + i]
   std::vector<float> ao;
+  std::vector<std::uint8_t> hidden;  // inside an object: no light of its own
+  // Hidden nodes take the mean of their visible (or already filled) 8-neighbours, ring by
+  // ring inwards.
+  void fill_hidden() {
+    for (bool changed = true; changed;) {
+      changed = false;
+      std::vector<std::uint8_t> next = hidden;
+      for (int j = 0; j < nv; ++j) {
+        for (int i = 0; i < nu; ++i) {
+          const std::size_t k = static_cast<std::size_t>(j) * nu + i;
+          if (!hidden[k]) continue;
+          int n = 0;
+          std::vector<Vec3> sum(irradiance.size(), Vec3::Zero());
+          float ao_sum = 0;
+          for (int dj = -1; dj <= 1; ++dj) {
+            for (int di = -1; di <= 1; ++di) {
+              const int ii = i + di, jj = j + dj;
+              if (ii < 0 || jj < 0 || ii >= nu || jj >= nv) continue;
+              const std::size_t q = static_cast<std::size_t>(jj) * nu + ii;
+              if (hidden[q]) continue;
+              ++n;
+              ao_sum += ao[q];
+              for (std::size_t l = 0; l < irradiance.size(); ++l) sum[l] += irradiance[l][q];
+            }
+          }
+          if (n == 0) continue;
+          for (std::size_t l = 0; l < irradiance.size(); ++l) irradiance[l][k] = sum[l] / static_cast<float>(n);
+          ao[k] = ao_sum / n;
+          next[k] = 0;
+          changed = true;
+        }
+      }
+      hidden = std::move(next);
+    }
+  }
   Vec3 node(const Patch& p, int i, int j) const {
     return p.origin + ((i + 0.5f) / nu * p.size_u) * p.u + ((j + 0.5f) / nv * p.size_v) * p.v;
   }
@@ -398,10 +443,6 @@ void SimWorld::bake_lighting(const WorldBuilder& builder) {
   const auto& specs = builder.specs();
   const int n_lights = static_cast<int>(lights_.size());
   std::vector<LightGrid> grids(patches_.size());
-  double area_sum = 0, albedo_sum = 0;
-  std::vector<double> reflected(n_lights, 0.0);
-  std::vector<Vec3> reflected_rgb(n_lights, Vec3::Zero());
-
   for (std::size_t pi = 0; pi < patches_.size(); ++pi) {
     const Patch& p = patches_[pi];
     LightGrid& g = grids[pi];
@@ -410,53 +451,84 @@ void SimWorld::bake_lighting(const WorldBuilder& builder) {
     g.nv = std::max(2, static_cast<int>(std::ceil(p.size_v / spacing)));
     g.irradiance.assign(n_lights, std::vector<Vec3>(static_cast<std::size_t>(g.nu) * g.nv, Vec3::Zero()));
     g.ao.assign(static_cast<std::size_t>(g.nu) * g.nv, 1.0f);
+    g.hidden.assign(g.ao.size(), 0);
+  }
+
+  // One row of nodes of one patch per work item; every node on its own, so the result does
+  // not depend on how the rows are shared out.
+  std::vector<std::pair<int, int>> rows;
+  for (std::size_t pi = 0; pi < patches_.size(); ++pi)
+    for (int j = 0; j < grids[pi].nv; ++j) rows.push_back({static_cast<int>(pi), j});
+  WorkerPool pool(2);
+  pool.parallel_for(static_cast<int>(rows.size()), [&](int r) {
+    const auto [pi, j] = rows[r];
+    const Patch& p = patches_[pi];
+    LightGrid& g = grids[pi];
+    for (int i = 0; i < g.nu; ++i) {
+      const std::size_t k = static_cast<std::size_t>(j) * g.nu + i;
+      const Vec3 origin = g.node(p, i, j) + 1e-3f * p.normal;
+      // A node under something standing on the surface (the wall behind the television, the
+      // floor under a leg) sees nothing; it is filled from its neighbours below, or the
+      // darkness would bleed out around the object.
+      if (inside_any(boxes_, origin)) {
+        g.hidden[k] = 1;
+        continue;
+      }
+      for (int li = 0; li < n_lights; ++li) {
+        const AreaLight& l = lights_[li];
+        const float area = 4.0f * l.u_half.norm() * l.v_half.norm();
+        Vec3 e = Vec3::Zero();
+        for (int s = 0; s < kLightSamples * kLightSamples; ++s) {
+          const std::uint64_t h = hash_combine(seed_, li * 64 + s);
+          const float su = ((s % kLightSamples) + uniform01(h)) / kLightSamples * 2 - 1;
+          const float sv = ((s / kLightSamples) + uniform01(mix64(h))) / kLightSamples * 2 - 1;
+          const Vec3 q = l.centre + su * l.u_half + sv * l.v_half;
+          const Vec3 to = q - origin;
+          const float r2 = to.squaredNorm();
+          const Vec3 dir = to / std::sqrt(r2);
+          const float cos_x = p.normal.dot(dir), cos_l = -l.normal.dot(dir);
+          if (cos_x <= 0 || cos_l <= 0) continue;
+          if (occluded(Ray(origin, to), *this, 0.999f)) continue;
+          const Vec3 radiance = l.is_window ? (in_window_glass(q) ? sky_radiance(q, seed_) : Vec3::Zero())
+                                            : l.radiance;
+          e += radiance * (cos_x * cos_l / r2);
+        }
+        g.irradiance[li][k] = e * (area / (kLightSamples * kLightSamples));
+      }
+      // Obscurance: cosine-weighted directions, each counting as open in proportion to how
+      // far it travels (up to kAoDistance).
+      float open = 0;
+      for (int s = 0; s < kAoSamples * kAoSamples; ++s) {
+        const std::uint64_t h = hash_combine(seed_, 5000 + s);
+        const float e1 = ((s % kAoSamples) + uniform01(h)) / kAoSamples;
+        const float e2 = ((s / kAoSamples) + uniform01(mix64(h))) / kAoSamples;
+        const float rr = std::sqrt(e1), phi = 2 * kPi * e2;
+        const Vec3 d = rr * std::cos(phi) * p.u + rr * std::sin(phi) * p.v + std::sqrt(1 - e1) * p.normal;
+        const Hit hit = trace(Ray(origin, d), *this, static_prims_, nullptr);
+        open += std::min(1.0f, hit.t / kAoDistance);
+      }
+      g.ao[k] = open / (kAoSamples * kAoSamples);
+    }
+  });
+
+  double area_sum = 0, albedo_sum = 0;
+  std::vector<Vec3> reflected_rgb(n_lights, Vec3::Zero());
+  for (std::size_t pi = 0; pi < patches_.size(); ++pi) {
+    const Patch& p = patches_[pi];
+    LightGrid& g = grids[pi];
     const float node_area = p.size_u * p.size_v / (g.nu * g.nv);
     for (int j = 0; j < g.nv; ++j) {
       for (int i = 0; i < g.nu; ++i) {
         const std::size_t k = static_cast<std::size_t>(j) * g.nu + i;
-        const Vec3 x = g.node(p, i, j);
-        const Vec3 origin = x + 1e-3f * p.normal;
-        for (int li = 0; li < n_lights; ++li) {
-          const AreaLight& l = lights_[li];
-          const float area = 4.0f * l.u_half.norm() * l.v_half.norm();
-          Vec3 e = Vec3::Zero();
-          for (int s = 0; s < kLightSamples * kLightSamples; ++s) {
-            const std::uint64_t h = hash_combine(seed_, li * 64 + s);
-            const float su = ((s % kLightSamples) + uniform01(h)) / kLightSamples * 2 - 1;
-            const float sv = ((s / kLightSamples) + uniform01(mix64(h))) / kLightSamples * 2 - 1;
-            const Vec3 q = l.centre + su * l.u_half + sv * l.v_half;
-            const Vec3 to = q - origin;
-            const float r2 = to.squaredNorm();
-            const Vec3 dir = to / std::sqrt(r2);
-            const float cos_x = p.normal.dot(dir), cos_l = -l.normal.dot(dir);
-            if (cos_x <= 0 || cos_l <= 0) continue;
-            if (occluded(Ray(origin, to), *this, 0.999f)) continue;
-            const Vec3 radiance = l.is_window ? (in_window_glass(q) ? sky_radiance(q, seed_) : Vec3::Zero())
-                                              : l.radiance;
-            e += radiance * (cos_x * cos_l / r2);
-          }
-          g.irradiance[li][k] = e * (area / (kLightSamples * kLightSamples));
-        }
-        // Obscurance: cosine-weighted directions, each counting as open in proportion to how
-        // far it travels (up to kAoDistance).
-        float open = 0;
-        for (int s = 0; s < kAoSamples * kAoSamples; ++s) {
-          const std::uint64_t h = hash_combine(seed_, 5000 + s);
-          const float e1 = ((s % kAoSamples) + uniform01(h)) / kAoSamples;
-          const float e2 = ((s / kAoSamples) + uniform01(mix64(h))) / kAoSamples;
-          const float rr = std::sqrt(e1), phi = 2 * kPi * e2;
-          const Vec3 d = rr * std::cos(phi) * p.u + rr * std::sin(phi) * p.v + std::sqrt(1 - e1) * p.normal;
-          const Hit hit = trace(Ray(origin, d), *this, static_prims_, nullptr);
-          open += std::min(1.0f, hit.t / kAoDistance);
-        }
-        g.ao[k] = open / (kAoSamples * kAoSamples);
-        const Vec3 albedo = specs[pi].albedo(x);
+        if (g.hidden[k]) continue;
+        const Vec3 albedo = specs[pi].albedo(g.node(p, i, j));
         area_sum += node_area;
         albedo_sum += node_area * luminance(albedo);
         for (int li = 0; li < n_lights; ++li)
           reflected_rgb[li] += (node_area / kPi) * albedo.cwiseProduct(g.irradiance[li][k]);
       }
     }
+    g.fill_hidden();
   }
 
   // Ambient radiance per light: the mean first-bounce radiance times 1 / (1 - mean albedo)
@@ -480,35 +552,36 @@ void SimWorld::bake_lighting(const WorldBuilder& builder) {
   }
 
   // The fine textures: albedo x irradiance / pi + emission, per lamp state.
+  std::vector<std::pair<int, int>> texel_rows;
   for (std::size_t pi = 0; pi < patches_.size(); ++pi) {
+    Patch& p = patches_[pi];
+    const std::size_t n = static_cast<std::size_t>(p.nu) * p.nv;
+    p.radiance.assign(kLampStates, std::vector<Eigen::Array4f>(n, Eigen::Array4f::Zero()));
+    for (int j = 0; j < p.nv; ++j) texel_rows.push_back({static_cast<int>(pi), j});
+  }
+  pool.parallel_for(static_cast<int>(texel_rows.size()), [&](int r) {
+    const auto [pi, j] = texel_rows[r];
     Patch& p = patches_[pi];
     const PatchSpec& spec = specs[pi];
     const LightGrid& g = grids[pi];
-    const std::size_t n = static_cast<std::size_t>(p.nu) * p.nv;
-    p.radiance.assign(kLampStates, std::vector<Eigen::Array4f>(n, Eigen::Array4f::Zero()));
-    Vec3 albedo_acc = Vec3::Zero();
-    for (int j = 0; j < p.nv; ++j) {
-      for (int i = 0; i < p.nu; ++i) {
-        const Vec3 x = p.origin + ((i + 0.5f) * p.texel) * p.u + ((j + 0.5f) * p.texel) * p.v;
-        const Vec3 albedo = spec.albedo(x);
-        albedo_acc += albedo;
-        std::array<Vec3, 8> e_light;
-        for (int li = 0; li < n_lights; ++li) e_light[li] = g.sample(li, p, x);
-        for (int state = 0; state < kLampStates; ++state) {
-          Vec3 e = Vec3::Zero();
-          for (int li = 0; li < n_lights; ++li) {
-            const AreaLight& l = lights_[li];
-            if (l.switch_bit < 0 || ((state >> l.switch_bit) & 1)) e += e_light[li];
-          }
-          Vec3 radiance = albedo.cwiseProduct(e) / kPi;
-          if (spec.emission) radiance += spec.emission(x, state);
-          p.radiance[state][static_cast<std::size_t>(j) * p.nu + i] << radiance.x(), radiance.y(),
-              radiance.z(), 0.0f;
+    for (int i = 0; i < p.nu; ++i) {
+      const Vec3 x = p.origin + ((i + 0.5f) * p.texel) * p.u + ((j + 0.5f) * p.texel) * p.v;
+      const Vec3 albedo = spec.albedo(x);
+      std::array<Vec3, 8> e_light;
+      for (int li = 0; li < n_lights; ++li) e_light[li] = g.sample(li, p, x);
+      for (int state = 0; state < kLampStates; ++state) {
+        Vec3 e = Vec3::Zero();
+        for (int li = 0; li < n_lights; ++li) {
+          const AreaLight& l = lights_[li];
+          if (l.switch_bit < 0 || ((state >> l.switch_bit) & 1)) e += e_light[li];
         }
+        Vec3 radiance = albedo.cwiseProduct(e) / kPi;
+        if (spec.emission) radiance += spec.emission(x, state);
+        p.radiance[state][static_cast<std::size_t>(j) * p.nu + i] << radiance.x(), radiance.y(),
+            radiance.z(), 0.0f;
       }
     }
-    p.albedo_mean = albedo_acc / static_cast<float>(n);
-  }
+  });
 }
 
 // The truth light: radiance around the probe position, 3 x 3 rays per texel, static scene.

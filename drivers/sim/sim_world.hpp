@@ -21,7 +21,6 @@ struct Patch {
   Eigen::Vector3f origin, u, v, normal;
   float size_u = 0, size_v = 0, texel = 0;
   int nu = 0, nv = 0;
-  Eigen::Vector3f albedo_mean{0.5f, 0.5f, 0.5f};
   bool no_depth = false;  // structured light fails on it (very dark)
   // World-space boxes (lo, hi) on the patch without depth: glass, a doorway into the dark.
   std::vector<std::array<Eigen::Vector3f, 2>> no_depth_boxes;
