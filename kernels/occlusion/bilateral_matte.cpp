@@ -21,7 +21,7 @@ void BilateralMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& a
   const float kc = -0.5F / (params_.sigma_colour * params_.sigma_colour) / (255.0F * 255.0F);
   set_args(kernel_, in.color->buffer(), categoriser_.categories().buffer(), w, h, params_.radius,
            ks, kc, alpha.buffer());
-  ctx_.run_2d(kernel_, w, h);
+  run_pixels(ctx_, kernel_, w, h);
 }
 
 }  // namespace probeless::occlusion

@@ -22,9 +22,9 @@ void Categoriser::dilate(const DeviceImageGray8& src, DeviceImageGray8& dst, int
   tmp_.resize(ctx_.context(), w, h);
   dst.resize(ctx_.context(), w, h);
   set_args(dilate_rows_, src.buffer(), tmp_.buffer(), w, h, radius);
-  ctx_.run_2d(dilate_rows_, w, h);
+  run_pixels(ctx_, dilate_rows_, w, h);
   set_args(dilate_cols_, tmp_.buffer(), dst.buffer(), w, h, radius);
-  ctx_.run_2d(dilate_cols_, w, h);
+  run_pixels(ctx_, dilate_cols_, w, h);
 }
 
 void Categoriser::run(const OcclusionInputs& in) {
@@ -33,10 +33,10 @@ void Categoriser::run(const OcclusionInputs& in) {
   if (raw_.empty()) return;
   set_args(raw_bits_, in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), raw_.buffer(), w,
            h, params_.depth_tolerance_mm);
-  ctx_.run_2d(raw_bits_, w, h);
+  run_pixels(ctx_, raw_bits_, w, h);
   dilate(raw_, near_, params_.erosion_px);
   set_args(erode_, raw_.buffer(), near_.buffer(), categories_.buffer(), process_.buffer(), w, h);
-  ctx_.run_2d(erode_, w, h);
+  run_pixels(ctx_, erode_, w, h);
 }
 
 }  // namespace probeless::occlusion

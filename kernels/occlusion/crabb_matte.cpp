@@ -21,7 +21,7 @@ void CrabbMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha
                                     ::cl::NDRange(256));
   set_args(matte_, in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), stats_, w, h,
            alpha.buffer());
-  ctx_.run_2d(matte_, w, h);
+  run_pixels(ctx_, matte_, w, h);
 }
 
 }  // namespace probeless::occlusion

@@ -75,14 +75,14 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   set_args(cost_pack_, in.color->buffer(), in.real_depth_mm->buffer(),
            in.virtual_depth_mm->buffer(), categories, hist_, std::max(1, params_.min_samples), w,
            h, wl, hl, wide_in_.buffer());
-  ctx_.run_2d(cost_pack_, wl, hl);
+  run_pixels(ctx_, cost_pack_, wl, hl);
 
   // 4. Wide guided filter on the costs, threshold on undecided pixels (thesis 3.3.4).
   wide_.coefficients(wide_in_, wide_ab_);
   wide_.apply(wide_ab_, &wide_mean_, nullptr, nullptr, nullptr);
   set_args(mask_pack_, in.color->buffer(), categories, wide_mean_.buffer(), w, h, wl, hl,
            feather_in_.buffer());
-  ctx_.run_2d(mask_pack_, w, h);
+  run_pixels(ctx_, mask_pack_, w, h);
 
   // 5. Narrow guided filter to feather; alpha = 1 - cost on the object.
   feather_.coefficients(feather_in_, feather_ab_);

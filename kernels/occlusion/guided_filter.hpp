@@ -18,8 +18,9 @@ class GuidedFilter {
     Visibility = 2,          // virtual > 0 ? clamp(q) : 0
     Raw = 3,                 // q
   };
-  // Tiles of 64 x 16 outputs: measured on PoCL (docs/occlusion.md, "Speed").
-  static constexpr int kTileWidth = 64;
+  // Tiles of 16 x 16 outputs: on PoCL under load, 16x16 took half the time of 64x16 and
+  // 32x32 for the full-resolution feather filter (docs/occlusion.md "Speed").
+  static constexpr int kTileWidth = 16;
   static constexpr int kTileHeight = 16;
 
   GuidedFilter(ComputeContext& ctx, int radius, float eps, Output output);

@@ -22,7 +22,7 @@ void GuidedMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alph
   if (alpha.empty()) return;
   categoriser_.run(in);
   set_args(pack_, in.color->buffer(), categoriser_.categories().buffer(), w, h, packed_.buffer());
-  ctx_.run_2d(pack_, w, h);
+  run_pixels(ctx_, pack_, w, h);
   filter_.coefficients(packed_, ab_);
   filter_.apply(ab_, nullptr, &packed_, in.virtual_depth_mm, &alpha);
 }

@@ -18,7 +18,7 @@ void MetaSoftMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& al
   set_args(kernel_, in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), w, h,
            params_.radius, params_.relative_range, params_.blend_threshold,
            params_.foreground_level, params_.background_level, alpha.buffer());
-  ctx_.run_2d(kernel_, w, h);
+  run_pixels(ctx_, kernel_, w, h);
 }
 
 }  // namespace probeless::occlusion

@@ -17,7 +17,7 @@ void SoftRampMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& al
   if (alpha.empty()) return;
   set_args(kernel_, in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), w, h,
            params_.smoothing_radius, params_.relative_half_width, alpha.buffer());
-  ctx_.run_2d(kernel_, w, h);
+  run_pixels(ctx_, kernel_, w, h);
 }
 
 }  // namespace probeless::occlusion
