@@ -10,11 +10,24 @@ struct CommandError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// probeless bench sim [--frames N --sim OPTS --json FILE] (bench_sim_command.cpp)
-void add_bench_sim_command(CLI::App& bench);
+// probeless run [--config FILE] [--source SPEC] [--frames N] [--out DIR] (run_command.cpp)
+void add_run_command(CLI::App& app);
+// probeless bench pipeline [--frames N] [--json FILE] (bench_pipeline_command.cpp)
+void add_bench_pipeline_command(CLI::App& bench);
+
+// probeless record --source SPEC --frames N [--no-truth] [--force] DIR (record_command.cpp)
+void add_record_command(CLI::App& app);
+
+// probeless devices [--config FILE] [--cl-platform S] [--cl-device S] (devices_command.cpp)
+void add_devices_command(CLI::App& app);
+// probeless bench composite [--width W --height H --frames N] (bench_composite_command.cpp)
+void add_bench_composite_command(CLI::App& bench);
 // probeless eval occlusion --dataset KIND:DIR [--json F --plots D] (eval_occlusion_command.cpp)
 void add_eval_occlusion_command(CLI::App& eval);
 // probeless bench occlusion [--json FILE] (bench_occlusion_command.cpp)
 void add_bench_occlusion_command(CLI::App& bench);
+
+// probeless bench sim [--frames N --sim OPTS --json FILE] (bench_sim_command.cpp)
+void add_bench_sim_command(CLI::App& bench);
 
 }  // namespace probeless::cli

@@ -14,9 +14,14 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
+  probeless::cli::add_run_command(app);
+  probeless::cli::add_record_command(app);
+  probeless::cli::add_devices_command(app);
   auto* bench = app.add_subcommand("bench", "Benchmarks that print numbers");
   bench->require_subcommand(1);
   probeless::cli::add_bench_sim_command(*bench);
+  probeless::cli::add_bench_pipeline_command(*bench);
+  probeless::cli::add_bench_composite_command(*bench);
   probeless::cli::add_bench_occlusion_command(*bench);
   auto* eval = app.add_subcommand("eval", "Evaluations against ground truth");
   eval->require_subcommand(1);

@@ -1,0 +1,96 @@
+// `probeless run`: the service. With no arguments it runs the synthetic rig with a built-in
+// object and serves the composite on http://127.0.0.1:8080/.
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+
+#include "app/cli/commands.hpp"
+#include "app/pipeline/pipeline.hpp"
+#include "app/service/signals.hpp"
+#include "app/service/systemd_notifier.hpp"
+#include "drivers/rig_factory.hpp"
+
+namespace probeless::cli {
+namespace {
+
+struct RunArgs {
+  std::string config_path;
+  std::string source;
+  std::string out_dir;
+  std::string occlusion;
+  std::string address;
+  int port = -1;
+  std::int64_t frames = 0;
+  bool matte = false;
+};
+
+std::string status_line(const nlohmann::json& s) {
+  return fmt::format("{} fps {:.1f}, {} frames, rgbd {}", s.value("state", "?"),
+                     s.value("fps", 0.0), s["frames"].value("out", 0),
+                     s["sources"]["rgbd"].value("state", "?"));
+}
+
+void run(const RunArgs& args) {
+  ServiceConfig config = args.config_path.empty() ? ServiceConfig{}
+                                                  : load_service_config(args.config_path);
+  if (!args.source.empty()) config.source = args.source;
+  if (!args.out_dir.empty()) config.output_dir = args.out_dir;
+  if (!args.occlusion.empty()) config.occlusion_method = args.occlusion;
+  if (!args.address.empty()) config.http_address = args.address;
+  if (args.port >= 0) config.http_port = args.port;
+  if (args.frames > 0) config.max_frames = args.frames;
+  if (args.matte) config.output_matte = true;
+
+  ShutdownSignals signals;  // before any thread starts, so every thread inherits the mask
+  SystemdNotifier notifier;
+  PipelineOptions options;
+  options.notifier = &notifier;
+  Pipeline pipeline(config, open_rig(config.source), options);
+  pipeline.start();
+  if (!pipeline.url().empty())
+    std::cout << "probeless: serving " << pipeline.url() << "/  (stream: " << pipeline.url()
+              << "/stream, status: " << pipeline.url() << "/status)" << std::endl;
+  if (!config.output_dir.empty())
+    std::cout << "probeless: writing frames to " << config.output_dir << std::endl;
+
+  // The first frame includes OpenCL program builds (about a second each on PoCL when the
+  // binary cache is cold), hence the generous wait.
+  bool ready = false;
+  while (!signals.stop_requested() && !pipeline.finished()) {
+    if (!ready && pipeline.wait_first_frame(std::chrono::milliseconds(100))) {
+      ready = true;
+      notifier.ready();
+      spdlog::info("first frame out: ready");
+    }
+    if (signals.wait_for(std::chrono::milliseconds(ready ? 1000 : 0))) break;
+    if (ready) notifier.status(status_line(pipeline.status()));
+  }
+  notifier.stopping();
+  if (signals.stop_requested())
+    spdlog::info("signal {}: stopping", signals.signal_number());
+  pipeline.stop();
+  const auto s = pipeline.status();
+  spdlog::info("stopped: {}", status_line(s));
+  if (auto err = pipeline.fatal_error()) throw CommandError(*err);
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  auto args = std::make_shared<RunArgs>();
+  auto* cmd = app.add_subcommand("run", "Run the service (default: the synthetic rig, HTTP on "
+                                        "127.0.0.1:8080)");
+  cmd->add_option("--config", args->config_path, "TOML configuration (docs/configuration.md)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--source", args->source, "Rig: sim[:options], replay:DIR, tum:DIR");
+  cmd->add_option("--frames", args->frames, "Stop after N frames")->check(CLI::PositiveNumber);
+  cmd->add_option("--out", args->out_dir, "Also write the composite frames to DIR");
+  cmd->add_flag("--matte", args->matte, "With --out: write the occlusion matte too");
+  cmd->add_option("--occlusion", args->occlusion, "Occlusion method (direct1, direct2, cvf, ...)");
+  cmd->add_option("--address", args->address, "HTTP bind address (default 127.0.0.1)");
+  cmd->add_option("--port", args->port, "HTTP port (default 8080, 0 = any free port)")
+      ->check(CLI::Range(0, 65535));
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace probeless::cli

@@ -1,0 +1,34 @@
+#pragma once
+// The processing thread's work for one RGB-D frame: the stages of frame_stages.hpp composed
+// from config, each timed into StageStats. Owns the OpenCL context and the EGL renderer, so
+// it must be created, used and destroyed on one thread.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/pipeline/frame_stages.hpp"
+#include "app/pipeline/pipeline.hpp"
+#include "app/pipeline/service_config.hpp"
+#include "app/pipeline/stage_stats.hpp"
+
+namespace probeless {
+
+class FrameProcessor {
+ public:
+  FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration, bool keep_matte);
+  CompositeFrame process(const RgbdFrame& frame, StageStats& stats);
+
+  std::string occlusion_method() const { return occlusion_->method_name(); }
+  std::string device_description() const { return ctx_->describe(); }
+
+ private:
+  RigCalibration calibration_;
+  bool keep_matte_;
+  std::unique_ptr<ComputeContext> ctx_;
+  std::vector<std::unique_ptr<FrameStage>> stages_;
+  OcclusionStage* occlusion_ = nullptr;
+  FrameWork work_;
+  Pose last_rig_pose_;
+};
+
+}  // namespace probeless

@@ -1,0 +1,321 @@
+#include "app/pipeline/pipeline.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "app/outputs/banner.hpp"
+#include "app/outputs/file_output.hpp"
+#include "app/outputs/http_server.hpp"
+#include "app/outputs/jpeg_encoder.hpp"
+#include "app/pipeline/frame_processor.hpp"
+
+namespace probeless {
+namespace {
+
+using namespace std::chrono_literals;
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// A bracket cycle is 4 frames (L, M, H, M); twice that rides out one slow processing frame
+// without losing an exposure the HDR merge needs.
+constexpr std::size_t kFisheyeQueue = 8;
+
+}  // namespace
+
+Pipeline::Pipeline(ServiceConfig config, Rig rig, PipelineOptions options)
+    : config_(std::move(config)), rig_(std::move(rig)), options_(options) {
+  if (!rig_.rgbd) throw std::invalid_argument("pipeline: the rig has no RGB-D source");
+  if (options_.lossless) stats_.keep_all(true);
+}
+
+Pipeline::~Pipeline() { stop(); }
+
+void Pipeline::start() {
+  started_ns_ = monotonic_now_ns();
+  last_rgbd_ns_ = started_ns_;  // "no signal" counts from the start, not from 1970
+  if (options_.serve_http && config_.http_enabled) {
+    HttpServerConfig http;
+    http.address = config_.http_address;
+    http.port = config_.http_port;
+    http_ = std::make_unique<HttpServer>(http, [this] { return status(); });
+  }
+  if (!config_.output_dir.empty()) {
+    FileOutputConfig files;
+    files.dir = config_.output_dir;
+    files.format = parse_image_file_format(config_.output_format);
+    files.write_matte = config_.output_matte;
+    files_ = std::make_unique<FileOutput>(files);
+  }
+  threads_.emplace_back([this](std::stop_token s) { capture_rgbd(s); });
+  if (rig_.fisheye) threads_.emplace_back([this](std::stop_token s) { capture_fisheye(s); });
+  threads_.emplace_back([this](std::stop_token s) { process(s); });
+  threads_.emplace_back([this](std::stop_token s) { output_loop(s); });
+}
+
+void Pipeline::stop() {
+  {
+    std::lock_guard lock(state_mutex_);
+    if (stopped_) return;
+    stopped_ = true;
+  }
+  for (auto& t : threads_) t.request_stop();
+  rgbd_credit_.release();  // a lossless capture thread may wait for a credit
+  rgbd_slot_.close();
+  output_.close();
+  threads_.clear();  // jthread joins
+  if (http_) http_->stop();
+  if (files_) files_->stop();
+  state_changed_.notify_all();
+}
+
+bool Pipeline::wait_first_frame(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(state_mutex_);
+  state_changed_.wait_for(lock, timeout, [&] { return first_out_ || fatal_ || finished_; });
+  return first_out_;
+}
+
+bool Pipeline::wait_finished(std::chrono::milliseconds timeout) {
+  std::unique_lock lock(state_mutex_);
+  return state_changed_.wait_for(lock, timeout, [&] { return finished_.load(); });
+}
+
+std::optional<std::string> Pipeline::fatal_error() const {
+  std::lock_guard lock(state_mutex_);
+  return fatal_;
+}
+
+std::string Pipeline::url() const { return http_ ? http_->url() : std::string(); }
+
+void Pipeline::fail(const std::string& what) {
+  spdlog::error("pipeline: {}", what);
+  {
+    std::lock_guard lock(state_mutex_);
+    if (!fatal_) fatal_ = what;
+  }
+  finish();
+}
+
+void Pipeline::finish() {
+  finished_ = true;
+  state_changed_.notify_all();
+}
+
+void Pipeline::capture_rgbd(std::stop_token stop) {
+  RgbdSource& source = *rig_.rgbd;
+  SourceState last_state = SourceState::Streaming;
+  while (!stop.stop_requested()) {
+    if (options_.lossless) {
+      while (!rgbd_credit_.try_acquire_for(100ms))
+        if (stop.stop_requested()) return;
+      if (stop.stop_requested()) return;
+    }
+    RgbdFrame frame;
+    const auto t0 = std::chrono::steady_clock::now();
+    const ReadResult r = source.read(frame, 100ms);
+    if (r == ReadResult::Frame) {
+      stats_.record("capture_rgbd", ms_since(t0));
+      ++rgbd_in_;
+      last_rgbd_ns_ = monotonic_now_ns();
+      rgbd_slot_.publish(std::move(frame));
+      continue;
+    }
+    if (options_.lossless) rgbd_credit_.release();
+    if (r == ReadResult::EndOfStream) {
+      spdlog::info("{}: end of stream after {} frames", source.name(), rgbd_in_.load());
+      rgbd_ended_ = true;
+      rgbd_slot_.close();
+      return;
+    }
+    const SourceState state = source.state();
+    if (state != last_state) {
+      spdlog::warn("{}: {}{}", source.name(), to_string(state),
+                   source.last_error().empty() ? "" : " (" + source.last_error() + ")");
+      last_state = state;
+    }
+    // Error: the driver retries its device; wait a little rather than spin on it.
+    if (r == ReadResult::Error) std::this_thread::sleep_for(100ms);
+  }
+}
+
+void Pipeline::capture_fisheye(std::stop_token stop) {
+  FisheyeSource& source = *rig_.fisheye;
+  while (!stop.stop_requested()) {
+    FisheyeFrame frame;
+    const auto t0 = std::chrono::steady_clock::now();
+    const ReadResult r = source.read(frame, 100ms);
+    if (r == ReadResult::EndOfStream) return;
+    if (r == ReadResult::Error) std::this_thread::sleep_for(100ms);
+    if (r != ReadResult::Frame) continue;
+    stats_.record("capture_fisheye", ms_since(t0));
+    std::lock_guard lock(fisheye_mutex_);
+    ++fisheye_in_;
+    fisheye_queue_.push_back(std::move(frame));
+    if (fisheye_queue_.size() > kFisheyeQueue) {
+      fisheye_queue_.pop_front();
+      ++fisheye_drops_;
+    }
+  }
+}
+
+void Pipeline::process(std::stop_token stop) {
+  try {
+    FrameProcessor processor(config_, rig_.calibration, options_.keep_matte || files_ != nullptr);
+    {
+      std::lock_guard lock(state_mutex_);
+      occlusion_name_ = processor.occlusion_method();
+      device_name_ = processor.device_description();
+    }
+    spdlog::info("processing on {}, occlusion '{}'", processor.device_description(),
+                 processor.occlusion_method());
+    process_loop(stop, processor);
+  } catch (const std::exception& e) {
+    fail(e.what());
+  }
+}
+
+void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
+  LatestFrame<RgbdFrame>::Sequence seen = 0;
+  auto last_watchdog = std::chrono::steady_clock::now() - 1h;
+  auto last_banner = last_watchdog;
+  // Half the interval systemd gave, as sd_watchdog_enabled(3) advises; none without one.
+  std::optional<std::chrono::microseconds> watchdog_every;
+  if (options_.notifier && options_.notifier->watchdog_interval())
+    watchdog_every = *options_.notifier->watchdog_interval() / 2;
+  while (!stop.stop_requested()) {
+    const auto now = std::chrono::steady_clock::now();
+    if (watchdog_every && now - last_watchdog >= *watchdog_every) {
+      options_.notifier->watchdog();  // from this loop: a hung pipeline stops the beat
+      last_watchdog = now;
+    }
+    {  // The light stage (issue 5) consumes these; until then they are counted and released.
+      std::lock_guard lock(fisheye_mutex_);
+      fisheye_used_ += fisheye_queue_.size();
+      fisheye_queue_.clear();
+    }
+    auto item = rgbd_slot_.take_newer(seen, 50ms);
+    if (!item) {
+      if (rgbd_ended_) return finish();
+      const auto silent_ns = monotonic_now_ns() - last_rgbd_ns_.load();
+      if (silent_ns > config_.no_signal_after_ms * 1'000'000LL) {
+        if (!no_signal_.exchange(true))
+          spdlog::warn("{}: no signal for {} ms: serving the last frame marked NO SIGNAL",
+                       rig_.rgbd->name(), silent_ns / 1'000'000);
+        if (now - last_banner > 200ms) {  // 5 Hz keeps viewers' streams alive
+          publish_no_signal(to_string(rig_.rgbd->state()));
+          last_banner = now;
+        }
+      }
+      continue;
+    }
+    seen = item->sequence;
+    if (options_.lossless) rgbd_credit_.release();
+    if (no_signal_.exchange(false)) spdlog::info("{}: signal back", rig_.rgbd->name());
+
+    const RgbdFrame& frame = item->value;
+    CompositeFrame out = processor.process(frame, stats_);
+    last_good_ = out;
+    output_.publish(std::move(out));
+    fps_.tick(monotonic_now_ns());
+    const auto n = ++processed_;
+    if (config_.max_frames > 0 && static_cast<std::int64_t>(n) >= config_.max_frames)
+      return finish();
+  }
+}
+
+void Pipeline::publish_no_signal(const std::string& state) {
+  CompositeFrame f;
+  if (last_good_) {
+    f = *last_good_;
+    auto color = std::make_shared<ImageRGB8>(*last_good_->color);
+    draw_no_signal(*color, rig_.rgbd->name(), state);
+    f.color = std::move(color);
+  } else {  // nothing good yet: a black frame of the camera's size says it all the same
+    auto color = std::make_shared<ImageRGB8>(rig_.calibration.rgb.width(),
+                                             rig_.calibration.rgb.height());
+    draw_no_signal(*color, rig_.rgbd->name(), state);
+    f.color = std::move(color);
+  }
+  f.no_signal = true;
+  output_.publish(std::move(f));
+}
+
+void Pipeline::output_loop(std::stop_token stop) {
+  JpegEncoder encoder(config_.jpeg_quality);
+  LatestFrame<CompositeFrame>::Sequence seen = 0;
+  std::uint64_t file_index = 0;
+  while (!stop.stop_requested()) {
+    auto item = output_.wait_newer(seen, 100ms, stop);
+    if (!item) continue;
+    seen = item->sequence;
+    const CompositeFrame& f = item->value;
+    const auto t0 = std::chrono::steady_clock::now();
+    auto jpeg = encoder.encode_shared(*f.color);
+    if (!f.no_signal) stats_.record("encode", ms_since(t0));
+    if (http_) http_->publish({std::move(jpeg), f.timestamp_ns});
+    if (files_ && !f.no_signal) {
+      FileOutputFrame ff;
+      ff.index = file_index++;
+      ff.timestamp_ns = f.timestamp_ns;
+      ff.color = f.color;
+      if (config_.output_matte && f.alpha) ff.matte = f.alpha;
+      files_->submit(std::move(ff));
+    }
+    const auto n = ++encoded_;
+    if (n == 1) {
+      std::lock_guard lock(state_mutex_);
+      first_out_ = true;
+      state_changed_.notify_all();
+    }
+  }
+}
+
+nlohmann::json Pipeline::status() const {
+  const auto now = monotonic_now_ns();
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& [name, s] : stats_.summaries())
+    stages[name] = {{"p50_ms", s.p50_ms}, {"p99_ms", s.p99_ms}};
+  nlohmann::json j;
+  std::string state = "running";
+  if (fatal_error()) state = "failed";
+  else if (finished_) state = "finished";
+  else if (no_signal_) state = "no_signal";
+  else if (processed_ == 0) state = "starting";
+  j["state"] = state;
+  j["fps"] = fps_.rate_hz(now);
+  j["uptime_s"] = static_cast<double>(now - started_ns_) * 1e-9;
+  j["frames"] = {{"processed", processed_.load()},
+                 {"out", encoded_.load()},
+                 {"rgbd_in", rgbd_in_.load()},
+                 {"rgbd_dropped", rgbd_slot_.drops()}};
+  {
+    std::lock_guard lock(fisheye_mutex_);
+    j["frames"]["fisheye_in"] = fisheye_in_;
+    j["frames"]["fisheye_dropped"] = fisheye_drops_;
+  }
+  j["stages"] = stages;
+  nlohmann::json sources;
+  sources["rgbd"] = {{"name", rig_.rgbd->name()},
+                     {"state", no_signal_ ? std::string("no_signal")
+                                          : std::string(to_string(rig_.rgbd->state()))},
+                     {"last_error", rig_.rgbd->last_error()}};
+  if (rig_.fisheye)
+    sources["fisheye"] = {{"name", rig_.fisheye->name()},
+                          {"state", to_string(rig_.fisheye->state())},
+                          {"last_error", rig_.fisheye->last_error()}};
+  j["sources"] = sources;
+  {
+    std::lock_guard lock(state_mutex_);
+    j["occlusion"] = occlusion_name_;
+    j["device"] = device_name_;
+    if (fatal_) j["error"] = *fatal_;
+  }
+  if (files_) {
+    const auto fs = files_->stats();
+    j["file_output"] = {{"written", fs.written}, {"dropped", fs.dropped}, {"failed", fs.failed},
+                        {"last_error", fs.last_error}};
+  }
+  return j;
+}
+
+}  // namespace probeless

@@ -1,0 +1,124 @@
+#pragma once
+// The service's pipeline (docs/architecture.md "The running service"): one capture thread per
+// source, one processing thread (EGL + OpenCL live there), one output thread that encodes
+// each composite once and hands it to the HTTP server and the file writer.
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <semaphore>
+#include <string>
+#include <thread>
+
+#include "app/outputs/latest_frame.hpp"
+#include "app/pipeline/service_config.hpp"
+#include "app/pipeline/stage_stats.hpp"
+#include "app/service/systemd_notifier.hpp"
+#include "core/frame.hpp"
+#include "drivers/source.hpp"
+
+namespace probeless {
+
+class HttpServer;
+class FileOutput;
+
+// What the processing thread publishes per frame.
+struct CompositeFrame {
+  std::uint64_t sequence = 0;  // the RGB-D frame's
+  TimestampNs timestamp_ns = 0;
+  std::shared_ptr<const ImageRGB8> color;
+  std::shared_ptr<const ImageF> alpha;          // with PipelineOptions::keep_matte
+  std::shared_ptr<const ImageF> virtual_depth;  // with keep_matte (mm, 0 = no object)
+  std::shared_ptr<const FrameTruth> truth;
+  bool no_signal = false;  // a repeat of the last good frame with the NO SIGNAL banner
+};
+
+struct PipelineOptions {
+  // Capture waits until processing took the previous frame, so no frame is dropped: for
+  // benchmarks and tests that count frames. The service runs lossy (latest frame wins).
+  bool lossless = false;
+  bool keep_matte = false;
+  bool serve_http = true;  // from config unless false here (benchmarks)
+  SystemdNotifier* notifier = nullptr;  // WATCHDOG=1 from the processing loop when set
+};
+
+class Pipeline {
+ public:
+  // Throws on a configuration the rig cannot satisfy (an object without a position on a
+  // rig that has no anchor) and when the HTTP port cannot be bound.
+  Pipeline(ServiceConfig config, Rig rig, PipelineOptions options = {});
+  ~Pipeline();
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  void start();
+  // Stops and joins every thread; idempotent. Returns within about one frame period.
+  void stop();
+
+  // Until the first composite is out (true), or the pipeline failed or time ran out (false).
+  bool wait_first_frame(std::chrono::milliseconds timeout);
+  // Until finished() or timeout; true when finished.
+  bool wait_finished(std::chrono::milliseconds timeout);
+  // max_frames processed, the source ended, or a fatal error (see fatal_error()).
+  bool finished() const { return finished_.load(); }
+  std::optional<std::string> fatal_error() const;
+
+  nlohmann::json status() const;
+  std::string url() const;  // the HTTP viewer's, empty without HTTP
+  LatestFrame<CompositeFrame>& output() { return output_; }
+  const StageStats& stats() const { return stats_; }
+  std::uint64_t frames_processed() const { return processed_.load(); }
+  std::uint64_t frames_out() const { return encoded_.load(); }
+
+ private:
+  void capture_rgbd(std::stop_token stop);
+  void capture_fisheye(std::stop_token stop);
+  void process(std::stop_token stop);
+  void process_loop(std::stop_token stop, class FrameProcessor& processor);
+  void output_loop(std::stop_token stop);
+  void publish_no_signal(const std::string& state);
+  void fail(const std::string& what);
+  void finish();
+
+  ServiceConfig config_;
+  Rig rig_;
+  PipelineOptions options_;
+  StageStats stats_;
+  RateMeter fps_;
+  TimestampNs started_ns_ = 0;
+
+  LatestFrame<RgbdFrame> rgbd_slot_;
+  std::counting_semaphore<1> rgbd_credit_{1};  // lossless mode only
+  std::atomic<TimestampNs> last_rgbd_ns_{0};
+  std::atomic<bool> rgbd_ended_{false};
+  std::atomic<std::uint64_t> rgbd_in_{0};
+
+  mutable std::mutex fisheye_mutex_;
+  std::deque<FisheyeFrame> fisheye_queue_;  // keeps a whole bracket cycle (and then some)
+  std::uint64_t fisheye_in_ = 0, fisheye_drops_ = 0, fisheye_used_ = 0;
+
+  LatestFrame<CompositeFrame> output_;
+  std::optional<CompositeFrame> last_good_;
+  std::atomic<bool> no_signal_{false};
+  std::atomic<std::uint64_t> processed_{0};
+  std::atomic<std::uint64_t> encoded_{0};
+
+  std::unique_ptr<HttpServer> http_;
+  std::unique_ptr<FileOutput> files_;
+
+  mutable std::mutex state_mutex_;
+  std::condition_variable state_changed_;
+  std::optional<std::string> fatal_;
+  std::string occlusion_name_, device_name_;  // set once the processing thread is up
+  std::atomic<bool> finished_{false};
+  bool first_out_ = false;
+  bool stopped_ = false;
+
+  std::vector<std::jthread> threads_;
+};
+
+}  // namespace probeless

@@ -1,0 +1,39 @@
+#pragma once
+// A child process for end-to-end tests: the real `probeless` binary, its stdout read line by
+// line, signals sent to it, its exit awaited with a timeout. Killed when the object dies.
+#include <sys/types.h>
+
+#include <chrono>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace probeless::testing {
+
+class Subprocess {
+ public:
+  // argv[0] is the program path. `env` entries are added to (or replace) the environment.
+  Subprocess(std::vector<std::string> argv, std::map<std::string, std::string> env = {});
+  ~Subprocess();
+  Subprocess(const Subprocess&) = delete;
+  Subprocess& operator=(const Subprocess&) = delete;
+
+  // The next line of stdout containing `needle`, or nullopt at EOF or timeout.
+  std::optional<std::string> wait_for_line(const std::string& needle,
+                                           std::chrono::milliseconds timeout);
+  void send_signal(int signal);
+  // Exit status (WEXITSTATUS, or 128 + signal) or nullopt on timeout.
+  std::optional<int> wait(std::chrono::milliseconds timeout);
+  pid_t pid() const { return pid_; }
+  const std::string& output() const { return output_; }  // all stdout read so far
+
+ private:
+  pid_t pid_ = -1;
+  int stdout_fd_ = -1;
+  std::string buffer_;
+  std::string output_;
+  std::optional<int> status_;
+};
+
+}  // namespace probeless::testing
