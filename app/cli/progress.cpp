@@ -49,9 +49,9 @@ std::string ProgressBar::render(std::string_view label, std::int64_t done, std::
     const double fraction = std::clamp(static_cast<double>(done) / static_cast<double>(total), 0.0, 1.0);
     numbers = fmt::format(" {}/{} {:3.0f}% {:.1f}/s", done, total, 100 * fraction, rate);
     if (done < total && rate > 0) {
-      numbers += " ETA " + clock_text(static_cast<double>(total - done) / rate);
+      numbers += fmt::format(" ETA {}", clock_text(static_cast<double>(total - done) / rate));
     } else {
-      numbers += " " + clock_text(elapsed_s);
+      numbers += fmt::format(" {}", clock_text(elapsed_s));
     }
   } else {
     numbers = fmt::format(" {} {:.1f}/s {}", done, rate, clock_text(elapsed_s));
@@ -59,13 +59,15 @@ std::string ProgressBar::render(std::string_view label, std::int64_t done, std::
   if (!detail.empty()) numbers += fmt::format("  {}", detail);
 
   std::string line(label);
-  const int room = width - static_cast<int>(line.size() + numbers.size()) - 3;
+  const int room = width - 1 - static_cast<int>(line.size() + numbers.size()) - 3;
   if (total > 0 && room >= 10) {
     const int bar = std::min(room, 40);
     const double fraction = std::clamp(static_cast<double>(done) / static_cast<double>(total), 0.0, 1.0);
     const int filled = static_cast<int>(fraction * bar);
-    line += " [" + std::string(static_cast<std::size_t>(filled), '#') +
-            std::string(static_cast<std::size_t>(bar - filled), '.') + "]";
+    line += " [";
+    line.append(static_cast<std::size_t>(filled), '#');
+    line.append(static_cast<std::size_t>(bar - filled), '.');
+    line += ']';
   }
   line += numbers;
   if (width > 0 && line.size() > static_cast<std::size_t>(width - 1)) {

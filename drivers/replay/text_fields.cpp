@@ -3,6 +3,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -74,9 +75,11 @@ std::string format_seconds(TimestampNs ns) {
   // Work in unsigned magnitude so that INT64_MIN does not overflow.
   const std::uint64_t magnitude =
       negative ? std::uint64_t{0} - static_cast<std::uint64_t>(ns) : static_cast<std::uint64_t>(ns);
-  std::string fraction = std::to_string(magnitude % 1'000'000'000u);
-  fraction.insert(0, 9 - fraction.size(), '0');
-  return (negative ? "-" : "") + std::to_string(magnitude / 1'000'000'000u) + "." + fraction;
+  char text[32];
+  const int n = std::snprintf(text, sizeof text, "%s%llu.%09llu", negative ? "-" : "",
+                              static_cast<unsigned long long>(magnitude / 1'000'000'000u),
+                              static_cast<unsigned long long>(magnitude % 1'000'000'000u));
+  return std::string(text, static_cast<std::size_t>(n));
 }
 
 TimestampNs parse_seconds(std::string_view text, const TextLocation& where) {

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <sstream>
 
 #include "core/error.hpp"
 #include "drivers/io/png.hpp"
@@ -139,7 +140,9 @@ TEST(Tum, MalformedLinesNameFileAndLine) {
   const TumFixture fx = make_tum_sequence();
   const std::string good_rgb = [&] {
     std::ifstream in(fx.dir / "rgb.txt");
-    return std::string(std::istreambuf_iterator<char>(in), {});
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
   }();
   write_text(fx.dir / "rgb.txt", good_rgb + "1305031102.3 rgb/x.png extra\n");
   expect_parse_error(fx.dir, fx.dir / "rgb.txt", 8, "expected 'timestamp filename'");
