@@ -3,6 +3,8 @@
 // depth) the matte must hide it.
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include "app/pipeline/pipeline.hpp"
 #include "drivers/rig_factory.hpp"
 
@@ -74,6 +76,7 @@ TEST(MatteTruth, DirectMatteAgreesWithGroundTruthOcclusion) {
   // ~60 px across that is a few pixels per edge, so IoU well above 0.7 is expected.
   const double iou = matte_iou_over_run("direct1", 150);
   RecordProperty("iou", std::to_string(iou));
+  std::cout << "direct1 matte IoU against ground truth: " << iou << "\n";
   EXPECT_GT(iou, 0.7);
 }
 

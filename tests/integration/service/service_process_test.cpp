@@ -161,9 +161,12 @@ TEST(Service, SourceStallShowsNoSignalThenRecovers) {
   ASSERT_GT(port, 0);
   ASSERT_TRUE(wait_status(port, [](const auto& s) { return s["frames"]["out"] > 0; }, 90s));
   ASSERT_TRUE(wait_status(
-      port, [](const auto& s) { return s["sources"]["rgbd"]["state"] == "no_signal"; }, 30s))
+      port,
+      [](const auto& s) {
+        return s["sources"]["rgbd"]["state"] == "no_signal" && s["state"] == "no_signal";
+      },
+      30s))
       << get_status(port).dump();
-  EXPECT_EQ(get_status(port)["state"], "no_signal");
   // The stream keeps going during the stall (the last frame with the banner).
   MjpegReader stream(port);
   EXPECT_TRUE(stream.next_part(5s).has_value());
