@@ -5,6 +5,20 @@
 #include <unistd.h>
 
 namespace probeless::testing {
+namespace {
+
+// Where tests find the shared data, cache their OpenCL programs and find the CLI, unless the
+// environment says otherwise. Runs before main(), so before any OpenCL platform is loaded.
+struct TestEnvironmentDefaults {
+  TestEnvironmentDefaults() {
+    ::setenv("PROBELESS_DATA", PROBELESS_TEST_DATA, 0);
+    ::setenv("POCL_CACHE_DIR", PROBELESS_TEST_BUILD_DIR "/pocl-cache", 0);
+    ::setenv("PROBELESS_CACHE_DIR", PROBELESS_TEST_BUILD_DIR "/test-cache", 0);
+    ::setenv("PROBELESS_BINARY", PROBELESS_TEST_BINARY, 0);
+  }
+} const defaults;
+
+}  // namespace
 
 std::filesystem::path shared_data_dir() {
   const char* env = std::getenv("PROBELESS_DATA");
