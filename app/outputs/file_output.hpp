@@ -1,0 +1,96 @@
+#pragma once
+// The composited frames as an image sequence in a directory (`--out DIR`):
+// frame_000042.jpg (or .png), matte_000042.png when asked, and frames.txt listing
+// "timestamp filename" per written frame in the TUM RGB-D style (seconds on the frames'
+// monotonic clock).
+//
+// Writing runs on its own thread behind a queue of at most `queue_capacity` frames (2): a
+// submit() never waits for the disk. When the writer is behind, the oldest waiting frame is
+// dropped to make room and counted, so what is written follows the live picture and memory
+// stays bounded whatever the disk does. Files appear whole or not at all (written to .tmp,
+// then renamed).
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <variant>
+
+#include "app/outputs/jpeg_encoder.hpp"
+#include "core/image.hpp"
+#include "core/time.hpp"
+
+namespace probeless {
+
+enum class ImageFileFormat { Jpeg, Png };
+
+// "jpeg", "jpg" or "png" (the config's output.format); std::invalid_argument otherwise.
+ImageFileFormat parse_image_file_format(std::string_view name);
+
+struct FileOutputConfig {
+  std::filesystem::path dir;
+  ImageFileFormat format = ImageFileFormat::Jpeg;
+  int jpeg_quality = 90;  // files are kept: better than the stream's 80, still ~1/10 of PNG
+  bool write_matte = false;
+  std::size_t queue_capacity = 2;  // frames waiting for the writer; more only adds latency
+};
+
+struct FileOutputFrame {
+  std::uint64_t index = 0;  // names the files; gaps show where frames were dropped
+  TimestampNs timestamp_ns = 0;
+  std::shared_ptr<const ImageRGB8> color;
+  // The matte, written as 8-bit PNG (lossless: a matte is data, JPEG would ring at its
+  // edges). A float matte is alpha in [0, 1], stored as round(255 * alpha).
+  std::variant<std::monostate, std::shared_ptr<const ImageGray8>, std::shared_ptr<const ImageF>>
+      matte;
+};
+
+struct FileOutputStats {
+  std::uint64_t submitted = 0;
+  std::uint64_t written = 0;
+  std::uint64_t dropped = 0;  // replaced in the queue before the writer got to them
+  std::uint64_t failed = 0;   // write errors (disk full, permissions)
+  std::string last_error;
+};
+
+ImageGray8 matte_to_gray8(const ImageF& alpha);
+
+class FileOutput {
+ public:
+  // Creates the directory (std::filesystem::filesystem_error on failure) and starts the
+  // writer thread.
+  explicit FileOutput(FileOutputConfig config);
+  ~FileOutput();
+  FileOutput(const FileOutput&) = delete;
+  FileOutput& operator=(const FileOutput&) = delete;
+  FileOutput(FileOutput&&) = delete;
+  FileOutput& operator=(FileOutput&&) = delete;
+
+  // Queues the frame; returns at once. A frame without colour is ignored.
+  void submit(FileOutputFrame frame);
+  // Writes what is still queued, then joins the writer. Safe to call twice.
+  void stop();
+  FileOutputStats stats() const;
+  const FileOutputConfig& config() const { return config_; }
+
+ private:
+  void run();
+  void write(const FileOutputFrame& frame);
+
+  FileOutputConfig config_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<FileOutputFrame> queue_;
+  bool stopping_ = false;
+  FileOutputStats stats_;
+  JpegEncoder encoder_;       // writer thread only (constructed here to check the quality)
+  std::ofstream index_file_;  // frames.txt; writer thread only
+  std::thread writer_;
+};
+
+}  // namespace probeless

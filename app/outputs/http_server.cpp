@@ -1,0 +1,556 @@
+#include "app/outputs/http_server.hpp"
+
+#include <event2/buffer.h>
+#include <event2/bufferevent.h>
+#include <event2/event.h>
+#include <event2/http.h>
+#include <event2/keyvalq_struct.h>
+#include <event2/thread.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstring>
+#include <list>
+#include <mutex>
+#include <optional>
+#include <string_view>
+#include <system_error>
+#include <thread>
+
+#include "app/outputs/latest_frame.hpp"
+#include "app/outputs/viewer_page.hpp"
+
+namespace probeless {
+namespace {
+
+// mjpg-streamer's boundary, which ustreamer kept: some clients were written against it.
+constexpr const char* kBoundary = "boundarydonotcross";
+constexpr const char* kNoCache =
+    "no-store, no-cache, must-revalidate, proxy-revalidate, pre-check=0, post-check=0, "
+    "max-age=0";
+// A stream connection reads nothing after its request; this bounds what a client that
+// keeps sending anyway can make us buffer.
+constexpr std::size_t kStreamInputLimit = std::size_t{64} * 1024;
+
+enum class Route { Index, Stream, Snapshot, Status, NotFound };
+
+Route route_for(std::string_view path, const char* query) {
+  if (path == "/stream") return Route::Stream;
+  if (path == "/snapshot") return Route::Snapshot;
+  if (path == "/status") return Route::Status;
+  if (path != "/") return Route::NotFound;
+  if (query == nullptr || *query == '\0') return Route::Index;
+  // mjpg-streamer's URLs: /?action=stream, /?action=snapshot.
+  evkeyvalq params{};
+  Route route = Route::Index;
+  if (evhttp_parse_query_str(query, &params) == 0) {
+    if (const char* action = evhttp_find_header(&params, "action")) {
+      const std::string_view a(action);
+      route = a == "stream" ? Route::Stream : a == "snapshot" ? Route::Snapshot : Route::NotFound;
+    }
+  }
+  evhttp_clear_headers(&params);
+  return route;
+}
+
+std::string timestamp_text(TimestampNs ns) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%lld.%06lld", static_cast<long long>(ns / 1000000000),
+                static_cast<long long>(ns % 1000000000 / 1000));
+  return text;
+}
+
+// Lets clients share one JPEG without a copy: the evbuffer holds a reference to the bytes
+// and a heap-held shared_ptr that keeps them alive until libevent has written them.
+void add_jpeg_reference(evbuffer* buf,
+                        const std::shared_ptr<const std::vector<std::uint8_t>>& jpeg) {
+  auto* keep = new std::shared_ptr<const std::vector<std::uint8_t>>(jpeg);
+  evbuffer_add_reference(
+      buf, jpeg->data(), jpeg->size(),
+      [](const void*, size_t, void* arg) {
+        delete static_cast<std::shared_ptr<const std::vector<std::uint8_t>>*>(arg);
+      },
+      keep);
+}
+
+int open_listener(const std::string& address, int port) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_NUMERICHOST | AI_NUMERICSERV | AI_PASSIVE;
+  addrinfo* found = nullptr;
+  const std::string where = address + ":" + std::to_string(port);
+  const std::string service = std::to_string(port);
+  if (const int rc = getaddrinfo(address.c_str(), service.c_str(), &hints, &found); rc != 0) {
+    throw HttpServerError("HTTP " + where + ": " + gai_strerror(rc));
+  }
+  std::unique_ptr<addrinfo, decltype(&freeaddrinfo)> guard(found, freeaddrinfo);
+  const int fd = socket(found->ai_family, found->ai_socktype | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (fd < 0) throw HttpServerError("HTTP " + where + ": socket: " + std::strerror(errno));
+  const int one = 1;
+  setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+  if (bind(fd, found->ai_addr, found->ai_addrlen) != 0 || listen(fd, 64) != 0) {
+    const int err = errno;
+    close(fd);
+    throw HttpServerError("HTTP " + where + ": " + std::strerror(err));
+  }
+  return fd;
+}
+
+int bound_port(int fd) {
+  sockaddr_storage addr{};
+  socklen_t len = sizeof addr;
+  if (getsockname(fd, reinterpret_cast<sockaddr*>(&addr), &len) != 0) return 0;
+  if (addr.ss_family == AF_INET) return ntohs(reinterpret_cast<sockaddr_in*>(&addr)->sin_port);
+  if (addr.ss_family == AF_INET6) return ntohs(reinterpret_cast<sockaddr_in6*>(&addr)->sin6_port);
+  return 0;
+}
+
+}  // namespace
+
+struct StreamClient {
+  HttpServer::Impl* server = nullptr;
+  evhttp_request* request = nullptr;  // null once libevent has finished with it
+  std::string peer;
+  TimestampNs connected_ns = 0;
+  LatestFrame<EncodedFrame>::Sequence last_sent = 0;
+  std::uint64_t frames_sent = 0;
+  std::uint64_t skipped = 0;  // frames between two sent ones
+  std::uint64_t bytes_queued = 0;
+  std::size_t buffered = 0;  // output not yet taken by the kernel, as of the last look
+};
+
+struct HttpServer::Impl {
+  HttpServerConfig config;
+  StatusCallback status;
+  LatestFrame<EncodedFrame> frames;
+
+  event_base* base = nullptr;
+  evhttp* http = nullptr;
+  event* frame_event = nullptr;
+  event* stop_event = nullptr;
+  int port = 0;
+  std::thread thread;
+
+  std::mutex wake_mutex;  // publish() and stop(): the events exist while `running`
+  bool running = false;
+
+  // The server thread's state; stats_mutex guards what stats() reads from other threads.
+  std::optional<LatestFrame<EncodedFrame>::Item> current;
+  std::list<std::unique_ptr<StreamClient>> clients;
+  mutable std::mutex stats_mutex;
+  std::uint64_t requests = 0;
+  std::uint64_t bytes_queued = 0;   // every response body and stream part
+  std::uint64_t bytes_dropped = 0;  // queued to clients that closed before taking it
+
+  void setup();
+  void teardown();
+  void on_request(evhttp_request* req);
+  void on_frame();
+  void serve_stream(evhttp_request* req);
+  void serve_snapshot(evhttp_request* req);
+  void serve_status(evhttp_request* req);
+  void send_body(evhttp_request* req, int code, const char* reason, const char* content_type,
+                 evbuffer* body);
+  void send_text(evhttp_request* req, int code, const char* reason, const std::string& text);
+  void offer(StreamClient& client);
+  void drained(StreamClient& client);
+  void remove(StreamClient* client);
+  HttpServerStats stats() const;
+};
+
+namespace {
+
+void on_request_cb(evhttp_request* req, void* arg) {
+  static_cast<HttpServer::Impl*>(arg)->on_request(req);
+}
+void on_frame_cb(evutil_socket_t, short, void* arg) {
+  static_cast<HttpServer::Impl*>(arg)->on_frame();
+}
+void on_stop_cb(evutil_socket_t, short, void* arg) {
+  event_base_loopbreak(static_cast<HttpServer::Impl*>(arg)->base);
+}
+// The client's output has drained: the moment to send the newest frame if it was skipped.
+void on_stream_drained_cb(evhttp_connection*, void* arg) {
+  auto* client = static_cast<StreamClient*>(arg);
+  client->server->drained(*client);
+}
+// libevent is about to free the request it owned (a reply that ended normally).
+void on_stream_complete_cb(evhttp_request*, void* arg) {
+  static_cast<StreamClient*>(arg)->request = nullptr;
+}
+void on_stream_closed_cb(evhttp_connection*, void* arg) {
+  auto* client = static_cast<StreamClient*>(arg);
+  client->server->remove(client);
+}
+
+std::once_flag g_threads_once;
+
+}  // namespace
+
+void HttpServer::Impl::setup() {
+  // event_active() from the publishing thread needs libevent's locking, enabled before any
+  // event_base exists.
+  std::call_once(g_threads_once, [] {
+    if (evthread_use_pthreads() != 0) throw HttpServerError("evthread_use_pthreads failed");
+  });
+  // A client that goes away mid-write must not kill the service: libevent writes with
+  // writev(), which raises SIGPIPE. Every socket server ignores it; do so unless the
+  // program has its own handler.
+  struct sigaction old {};
+  if (sigaction(SIGPIPE, nullptr, &old) == 0 && old.sa_handler == SIG_DFL) {
+    std::signal(SIGPIPE, SIG_IGN);
+  }
+
+  int fd = config.listen_fd;
+  if (fd >= 0) {
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_NONBLOCK);
+  } else {
+    fd = open_listener(config.address, config.port);
+  }
+  port = bound_port(fd);
+
+  base = event_base_new();
+  http = base ? evhttp_new(base) : nullptr;
+  if (http == nullptr || evhttp_accept_socket_with_handle(http, fd) == nullptr) {
+    close(fd);
+    throw HttpServerError("HTTP: cannot set up libevent");
+  }
+  evhttp_set_allowed_methods(http, EVHTTP_REQ_GET | EVHTTP_REQ_POST | EVHTTP_REQ_HEAD |
+                                       EVHTTP_REQ_PUT | EVHTTP_REQ_DELETE | EVHTTP_REQ_OPTIONS |
+                                       EVHTTP_REQ_TRACE | EVHTTP_REQ_CONNECT | EVHTTP_REQ_PATCH);
+  evhttp_set_timeout(http, static_cast<int>(config.request_timeout.count()));
+  evhttp_set_max_headers_size(http, ev_ssize_t{16} * 1024);
+  evhttp_set_max_body_size(http, ev_ssize_t{16} * 1024);
+  evhttp_set_gencb(http, on_request_cb, this);
+
+  frame_event = event_new(base, -1, 0, on_frame_cb, this);
+  stop_event = event_new(base, -1, 0, on_stop_cb, this);
+  if (frame_event == nullptr || stop_event == nullptr) {
+    throw HttpServerError("HTTP: cannot create events");
+  }
+}
+
+void HttpServer::Impl::teardown() {
+  // The loop has stopped: nothing runs on the server thread any more. Connections are
+  // freed by evhttp_free() with the requests they own; a stream whose connection already
+  // failed had its request handed back to us and is freed here.
+  for (auto& client : clients) {
+    if (client->request == nullptr) continue;
+    if (evhttp_connection* conn = evhttp_request_get_connection(client->request)) {
+      evhttp_connection_set_closecb(conn, nullptr, nullptr);
+      evhttp_request_set_on_complete_cb(client->request, nullptr, nullptr);
+    } else {
+      evhttp_request_free(client->request);
+    }
+  }
+  {
+    std::lock_guard lock(stats_mutex);
+    clients.clear();
+  }
+  if (http) evhttp_free(http);
+  if (frame_event) event_free(frame_event);
+  if (stop_event) event_free(stop_event);
+  if (base) event_base_free(base);
+  http = nullptr;
+  frame_event = stop_event = nullptr;
+  base = nullptr;
+}
+
+void HttpServer::Impl::send_body(evhttp_request* req, int code, const char* reason,
+                                 const char* content_type, evbuffer* body) {
+  evkeyvalq* headers = evhttp_request_get_output_headers(req);
+  evhttp_add_header(headers, "Content-Type", content_type);
+  evhttp_add_header(headers, "Cache-Control", kNoCache);
+  {
+    std::lock_guard lock(stats_mutex);
+    bytes_queued += evbuffer_get_length(body);
+  }
+  evhttp_send_reply(req, code, reason, body);
+}
+
+void HttpServer::Impl::send_text(evhttp_request* req, int code, const char* reason,
+                                 const std::string& text) {
+  evbuffer* body = evbuffer_new();
+  evbuffer_add(body, text.data(), text.size());
+  send_body(req, code, reason, "text/plain; charset=utf-8", body);
+  evbuffer_free(body);
+}
+
+void HttpServer::Impl::on_request(evhttp_request* req) {
+  {
+    std::lock_guard lock(stats_mutex);
+    ++requests;
+  }
+  const evhttp_uri* uri = evhttp_request_get_evhttp_uri(req);
+  const char* path = uri ? evhttp_uri_get_path(uri) : nullptr;
+  const char* query = uri ? evhttp_uri_get_query(uri) : nullptr;
+  const std::string_view p = path && *path ? path : "/";
+  const Route route = route_for(p, query);
+  if (route == Route::NotFound) {
+    send_text(req, HTTP_NOTFOUND, "Not Found", "not found: " + std::string(p) + "\n");
+    return;
+  }
+  if (evhttp_request_get_command(req) != EVHTTP_REQ_GET) {
+    evhttp_add_header(evhttp_request_get_output_headers(req), "Allow", "GET");
+    send_text(req, 405, "Method Not Allowed", "only GET is served here\n");
+    return;
+  }
+  switch (route) {
+    case Route::Stream:
+      serve_stream(req);
+      return;
+    case Route::Snapshot:
+      serve_snapshot(req);
+      return;
+    case Route::Status:
+      serve_status(req);
+      return;
+    case Route::Index: {
+      evbuffer* body = evbuffer_new();
+      const std::string_view page = viewer_html();
+      evbuffer_add_reference(body, page.data(), page.size(), nullptr, nullptr);
+      send_body(req, HTTP_OK, "OK", "text/html; charset=utf-8", body);
+      evbuffer_free(body);
+      return;
+    }
+    case Route::NotFound:
+      return;
+  }
+}
+
+void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
+  on_frame();  // take a frame published a moment ago even if its wake-up is still queued
+  if (!current) {
+    evhttp_add_header(evhttp_request_get_output_headers(req), "Retry-After", "1");
+    send_text(req, 503, "Service Unavailable", "no frame yet: the pipeline has not produced one\n");
+    return;
+  }
+  evhttp_add_header(evhttp_request_get_output_headers(req), "X-Timestamp",
+                    timestamp_text(current->value.timestamp_ns).c_str());
+  evbuffer* body = evbuffer_new();
+  add_jpeg_reference(body, current->value.jpeg);
+  send_body(req, HTTP_OK, "OK", "image/jpeg", body);
+  evbuffer_free(body);
+}
+
+void HttpServer::Impl::serve_status(evhttp_request* req) {
+  nlohmann::json body;
+  try {
+    body = status ? status() : nlohmann::json::object();
+    if (!body.is_object()) body = nlohmann::json{{"service", std::move(body)}};
+    body["http"] = to_json(stats());
+  } catch (const std::exception& e) {
+    send_text(req, HTTP_INTERNAL, "Internal Server Error",
+              std::string("status: ") + e.what() + "\n");
+    return;
+  }
+  const std::string text = body.dump();
+  evbuffer* buf = evbuffer_new();
+  evbuffer_add(buf, text.data(), text.size());
+  send_body(req, HTTP_OK, "OK", "application/json", buf);
+  evbuffer_free(buf);
+}
+
+void HttpServer::Impl::serve_stream(evhttp_request* req) {
+  evhttp_connection* conn = evhttp_request_get_connection(req);
+  if (conn == nullptr) return;
+  if (clients.size() >= static_cast<std::size_t>(config.max_stream_clients)) {
+    evhttp_add_header(evhttp_request_get_output_headers(req), "Retry-After", "5");
+    send_text(req, 503, "Service Unavailable", "too many stream clients\n");
+    return;
+  }
+  evkeyvalq* headers = evhttp_request_get_output_headers(req);
+  evhttp_add_header(headers, "Content-Type",
+                    (std::string("multipart/x-mixed-replace;boundary=") + kBoundary).c_str());
+  evhttp_add_header(headers, "Cache-Control", kNoCache);
+  evhttp_add_header(headers, "Pragma", "no-cache");
+  evhttp_add_header(headers, "Expires", "Mon, 3 Jan 2000 12:34:56 GMT");
+  // HTTP/1.1 clients get chunked transfer; HTTP/1.0 clients the raw multipart body.
+  evhttp_send_reply_start(req, HTTP_OK, "OK");
+
+  auto client = std::make_unique<StreamClient>();
+  client->server = this;
+  client->request = req;
+  client->connected_ns = monotonic_now_ns();
+  char* address = nullptr;
+  ev_uint16_t port_number = 0;
+  evhttp_connection_get_peer(conn, &address, &port_number);
+  client->peer = std::string(address ? address : "?") + ":" + std::to_string(port_number);
+
+  // A stream never reads again, so no read timeout; a write timeout drops a dead client.
+  bufferevent* bev = evhttp_connection_get_bufferevent(conn);
+  const timeval stall{static_cast<time_t>(config.stalled_client_timeout.count()), 0};
+  bufferevent_set_timeouts(bev, nullptr,
+                           config.stalled_client_timeout.count() > 0 ? &stall : nullptr);
+  bufferevent_setwatermark(bev, EV_READ, 0, kStreamInputLimit);
+  evhttp_connection_set_closecb(conn, on_stream_closed_cb, client.get());
+  evhttp_request_set_on_complete_cb(req, on_stream_complete_cb, client.get());
+
+  StreamClient& ref = *client;
+  {
+    std::lock_guard lock(stats_mutex);
+    clients.push_back(std::move(client));
+  }
+  offer(ref);  // the newest frame at once, not at the next publish
+}
+
+void HttpServer::Impl::offer(StreamClient& client) {
+  if (!current || client.request == nullptr || client.last_sent >= current->sequence) return;
+  evhttp_connection* conn = evhttp_request_get_connection(client.request);
+  if (conn == nullptr) return;  // failed; its close callback removes it
+  bufferevent* bev = evhttp_connection_get_bufferevent(conn);
+  const std::size_t buffered = evbuffer_get_length(bufferevent_get_output(bev));
+  if (buffered > config.client_buffer_limit) {
+    std::lock_guard lock(stats_mutex);
+    client.buffered = buffered;
+    return;  // skipped for now; the drain callback offers the newest frame again
+  }
+
+  const EncodedFrame& frame = current->value;
+  evbuffer* part = evbuffer_new();
+  evbuffer_add_printf(part,
+                      "--%s\r\nContent-Type: image/jpeg\r\nContent-Length: %zu\r\n"
+                      "X-Timestamp: %s\r\n\r\n",
+                      kBoundary, frame.jpeg->size(), timestamp_text(frame.timestamp_ns).c_str());
+  add_jpeg_reference(part, frame.jpeg);
+  evbuffer_add(part, "\r\n", 2);
+  const std::size_t part_bytes = evbuffer_get_length(part);
+  {
+    std::lock_guard lock(stats_mutex);
+    if (client.last_sent > 0) client.skipped += current->sequence - client.last_sent - 1;
+    client.last_sent = current->sequence;
+    ++client.frames_sent;
+    client.bytes_queued += part_bytes;
+    client.buffered = buffered + part_bytes;
+    bytes_queued += part_bytes;
+  }
+  evhttp_send_reply_chunk_with_cb(client.request, part, on_stream_drained_cb, &client);
+  evbuffer_free(part);
+}
+
+void HttpServer::Impl::drained(StreamClient& client) {
+  {
+    std::lock_guard lock(stats_mutex);
+    client.buffered = 0;
+  }
+  offer(client);
+}
+
+void HttpServer::Impl::on_frame() {
+  const auto after = current ? current->sequence : 0;
+  auto item = frames.try_newer(after);
+  if (!item) return;
+  current = std::move(item);
+  for (auto& client : clients) offer(*client);
+}
+
+void HttpServer::Impl::remove(StreamClient* client) {
+  // The connection is being freed. A request that failed mid-stream was detached from it
+  // and is ours to free; one still attached is freed by libevent right after this.
+  if (client->request != nullptr && evhttp_request_get_connection(client->request) == nullptr) {
+    evhttp_request_free(client->request);
+  }
+  std::lock_guard lock(stats_mutex);
+  bytes_dropped += client->buffered;
+  clients.remove_if([&](const auto& c) { return c.get() == client; });
+}
+
+HttpServerStats HttpServer::Impl::stats() const {
+  HttpServerStats s;
+  s.frames_published = frames.sequence();
+  const auto latest = s.frames_published;
+  const TimestampNs now = monotonic_now_ns();
+  std::lock_guard lock(stats_mutex);
+  s.requests = requests;
+  std::uint64_t unsent = bytes_dropped;
+  for (const auto& c : clients) {
+    StreamClientStats cs;
+    cs.peer = c->peer;
+    cs.frames_sent = c->frames_sent;
+    // Frames between the last one sent and the newest are lost to this client for good.
+    cs.drops = c->skipped +
+               (c->last_sent > 0 && latest > c->last_sent + 1 ? latest - c->last_sent - 1 : 0);
+    cs.buffered_bytes = c->buffered;
+    cs.connected_s = static_cast<double>(now - c->connected_ns) * 1e-9;
+    unsent += c->buffered;
+    s.stream_clients.push_back(std::move(cs));
+  }
+  s.bytes_sent = bytes_queued > unsent ? bytes_queued - unsent : 0;
+  return s;
+}
+
+nlohmann::json to_json(const HttpServerStats& stats) {
+  nlohmann::json clients = nlohmann::json::array();
+  for (const auto& c : stats.stream_clients) {
+    clients.push_back({{"peer", c.peer},
+                       {"frames_sent", c.frames_sent},
+                       {"drops", c.drops},
+                       {"buffered_bytes", c.buffered_bytes},
+                       {"connected_s", c.connected_s}});
+  }
+  return {{"requests", stats.requests},
+          {"frames_published", stats.frames_published},
+          {"bytes_sent", stats.bytes_sent},
+          {"clients", stats.stream_clients.size()},
+          {"stream_clients", std::move(clients)}};
+}
+
+HttpServer::HttpServer(HttpServerConfig config, StatusCallback status)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->config = std::move(config);
+  impl_->status = std::move(status);
+  try {
+    impl_->setup();
+  } catch (...) {
+    impl_->teardown();
+    throw;
+  }
+  impl_->running = true;
+  impl_->thread =
+      std::thread([impl = impl_.get()] { event_base_loop(impl->base, EVLOOP_NO_EXIT_ON_EMPTY); });
+}
+
+HttpServer::~HttpServer() {
+  stop();
+}
+
+int HttpServer::port() const {
+  return impl_->port;
+}
+
+std::string HttpServer::url() const {
+  const std::string& a = impl_->config.address;
+  const std::string host = a.find(':') != std::string::npos ? "[" + a + "]" : a;
+  return "http://" + host + ":" + std::to_string(impl_->port);
+}
+
+void HttpServer::publish(EncodedFrame frame) {
+  if (!frame.jpeg || frame.jpeg->empty()) return;
+  impl_->frames.publish(std::move(frame));
+  std::lock_guard lock(impl_->wake_mutex);
+  if (impl_->running) event_active(impl_->frame_event, EV_READ, 0);
+}
+
+void HttpServer::stop() {
+  {
+    std::lock_guard lock(impl_->wake_mutex);
+    if (!impl_->running) return;
+    impl_->running = false;
+    // An activated event stays active until the loop runs it, so this cannot be lost even
+    // if the loop has not started yet (event_base_loopbreak() before the loop would be).
+    event_active(impl_->stop_event, EV_READ, 0);
+  }
+  if (impl_->thread.joinable()) impl_->thread.join();
+  impl_->teardown();
+}
+
+HttpServerStats HttpServer::stats() const {
+  return impl_->stats();
+}
+
+}  // namespace probeless

@@ -1,0 +1,104 @@
+#pragma once
+// The network side of the appliance: an HTTP server on its own thread (libevent's evhttp,
+// its own event_base) serving the latest encoded frame the ways existing MJPEG clients
+// expect (mjpg-streamer and ustreamer URLs and headers):
+//
+//   GET /stream    (also /?action=stream)    multipart/x-mixed-replace MJPEG
+//   GET /snapshot  (also /?action=snapshot)  one JPEG; 503 before the first frame
+//   GET /status    JSON: the service's status callback plus this server's counters
+//   GET /          a self-contained viewer page (the stream and the status table)
+//
+// Frames arrive already encoded (once, whatever the number of clients) through publish(),
+// which never blocks: it replaces the value in a LatestFrame slot and wakes the server's
+// thread. Every stream client gets the newest frame; one whose socket does not keep up has
+// frames skipped (counted as its drops) instead of slowing the pipeline or other clients.
+// docs/outputs.md has the details.
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/time.hpp"
+
+namespace probeless {
+
+struct EncodedFrame {
+  std::shared_ptr<const std::vector<std::uint8_t>> jpeg;
+  TimestampNs timestamp_ns = 0;  // the frame's capture time (CLOCK_MONOTONIC)
+};
+
+struct HttpServerConfig {
+  std::string address = "127.0.0.1";  // IPv4 or IPv6 literal; "0.0.0.0" opens to the network
+  int port = 8080;                    // 0: an ephemeral port (tests), see HttpServer::port()
+  // An already listening socket to serve instead of binding (systemd socket activation:
+  // SD_LISTEN_FDS_START); address and port are then ignored. The server takes ownership.
+  int listen_fd = -1;
+  // A stream client with more than this many bytes still queued for it gets no new frame
+  // until it catches up: about five 640x480 frames at quality 80 (~45 KB each), bounding
+  // both memory per client and how stale a slow client's picture can get.
+  std::size_t client_buffer_limit = std::size_t{256} * 1024;
+  // A stream client that has accepted no byte for this long is disconnected.
+  std::chrono::seconds stalled_client_timeout{30};
+  // Requests other than streams (and idle keep-alive connections) time out after this.
+  std::chrono::seconds request_timeout{30};
+  int max_stream_clients = 32;  // more get 503: an SBC's uplink is the limit long before
+};
+
+struct StreamClientStats {
+  std::string peer;  // "address:port"
+  std::uint64_t frames_sent = 0;
+  std::uint64_t drops = 0;  // frames published while connected that this client will not get
+  std::size_t buffered_bytes = 0;
+  double connected_s = 0;
+};
+
+struct HttpServerStats {
+  std::uint64_t requests = 0;
+  std::uint64_t frames_published = 0;
+  std::uint64_t bytes_sent = 0;  // handed to the kernel, all responses
+  std::vector<StreamClientStats> stream_clients;
+};
+
+nlohmann::json to_json(const HttpServerStats& stats);
+
+struct HttpServerError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class HttpServer {
+ public:
+  // Called on the server's thread for every GET /status; must be thread-safe with respect
+  // to the pipeline. An object is served with this server's stats added under "http".
+  using StatusCallback = std::function<nlohmann::json()>;
+
+  // Binds and starts serving; throws HttpServerError naming the address when it cannot.
+  explicit HttpServer(HttpServerConfig config, StatusCallback status = {});
+  ~HttpServer();
+  HttpServer(const HttpServer&) = delete;
+  HttpServer& operator=(const HttpServer&) = delete;
+  HttpServer(HttpServer&&) = delete;
+  HttpServer& operator=(HttpServer&&) = delete;
+
+  int port() const;         // the bound port (the ephemeral one when configured with 0)
+  std::string url() const;  // "http://127.0.0.1:8080"
+
+  // Any thread, never blocks on clients. Frames without data are ignored.
+  void publish(EncodedFrame frame);
+
+  // Closes every connection and joins the thread (well under a second). Idempotent.
+  void stop();
+
+  HttpServerStats stats() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace probeless
