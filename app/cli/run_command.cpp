@@ -41,7 +41,7 @@ void run(const RunArgs& args) {
   if (args.frames > 0) config.max_frames = args.frames;
   if (args.matte) config.output_matte = true;
 
-  ShutdownSignals signals;  // before any thread starts, so every thread inherits the mask
+  ShutdownSignals signals;  // SIGTERM/SIGINT only wake the loop below (app/service/signals.hpp)
   SystemdNotifier notifier;
   PipelineOptions options;
   options.notifier = &notifier;
