@@ -1,0 +1,273 @@
+#include "app/render/renderer.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+#include "app/render/shaders/lambert.hpp"
+
+namespace probeless::render {
+
+struct Renderer::GpuMesh {
+  std::weak_ptr<const Mesh> source;  // the entry is dropped when the mesh is gone
+  GlVertexArray vao;
+  GlBuffer vertices, colours, indices;
+  GLsizei index_count = 0;
+  Eigen::Vector4f base_colour;
+};
+
+struct Renderer::Program {
+  GlProgram program;
+  GLint camera_from_object, projection, world_from_object, base_colour, light_dir, ambient;
+};
+
+namespace {
+
+constexpr GLuint kPosition = 0, kNormal = 1, kColour = 2;
+
+}  // namespace
+
+Eigen::Matrix4d projection_from_intrinsics(const PinholeIntrinsics& k, double n, double f) {
+  if (!(n > 0 && f > n)) throw std::invalid_argument("projection: need 0 < near < far");
+  const double w = k.width, h = k.height;
+  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+  // x_ndc = 2 (u + 0.5) / W - 1 with u = fx x / z + cx, and likewise y from v, over w = z.
+  p(0, 0) = 2 * k.fx / w;
+  p(0, 2) = (2 * k.cx + 1) / w - 1;
+  p(1, 1) = 2 * k.fy / h;
+  p(1, 2) = (2 * k.cy + 1) / h - 1;
+  // z_ndc = -1 at z = near, +1 at z = far (only the z test uses it; depth output is linear).
+  p(2, 2) = (f + n) / (f - n);
+  p(2, 3) = -2 * f * n / (f - n);
+  p(3, 2) = 1;
+  return p;
+}
+
+Pose camera_look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+                    const Eigen::Vector3d& up) {
+  const Eigen::Vector3d z = (target - eye).normalized();  // forward
+  Eigen::Vector3d x = z.cross(up);                        // right = forward x up
+  if (!(x.norm() > 1e-9)) throw std::invalid_argument("camera_look_at: view along up");
+  x.normalize();
+  const Eigen::Vector3d y = z.cross(x);  // down
+  Eigen::Matrix3d r;
+  r << x, y, z;
+  Pose pose;
+  pose.rotation = Eigen::Quaterniond(r).normalized();
+  pose.translation = eye;
+  return pose;
+}
+
+Renderer::Renderer(const RendererConfig& config)
+    : config_(config), context_(std::make_unique<EglContext>()) {
+  if (!(config_.near_m > 0 && config_.far_m > config_.near_m))
+    throw std::invalid_argument("renderer: need 0 < near_m < far_m");
+  if (!context_->has_gl_extension("GL_EXT_color_buffer_float"))
+    throw GlError("renderer: " + context_->renderer() +
+                  " lacks GL_EXT_color_buffer_float (needed for the R32F depth output)");
+  programs_.push_back(make_program(Material::Shading::Lambert));
+  framebuffer_ = make_framebuffer();
+  check_gl("renderer setup");
+}
+
+Renderer::~Renderer() {
+  try {
+    context_->make_current();  // the GL objects below are deleted in this context
+  } catch (const std::exception& e) {
+    spdlog::error("render: {} (GL objects leak)", e.what());
+  }
+}
+
+void Renderer::resize(int width, int height) {
+  if (width <= 0 || height <= 0)
+    throw std::invalid_argument("renderer: image size must be positive, got " +
+                                std::to_string(width) + "x" + std::to_string(height));
+  auto storage = [&](GlRenderbuffer& rb, GLenum format) {
+    rb = make_renderbuffer();
+    glBindRenderbuffer(GL_RENDERBUFFER, rb.get());
+    glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
+  };
+  storage(colour_buffer_, GL_RGBA8);
+  storage(depth_mm_buffer_, GL_R32F);
+  storage(z_buffer_, GL_DEPTH_COMPONENT32F);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                            colour_buffer_.get());
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER,
+                            depth_mm_buffer_.get());
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, z_buffer_.get());
+  const GLenum draw[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glDrawBuffers(2, draw);
+  const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    throw GlError("renderer: framebuffer incomplete (status 0x" + std::to_string(status) + ")");
+  // GLES 3 always reads floats as RGBA; a single RED channel is the implementation's choice.
+  glReadBuffer(GL_COLOR_ATTACHMENT1);
+  GLint format = 0, type = 0;
+  glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_FORMAT, &format);
+  glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_TYPE, &type);
+  read_depth_as_red_ = format == GL_RED && type == GL_FLOAT;
+  if (read_depth_as_red_)
+    depth_scratch_.clear();
+  else
+    depth_scratch_.assign(static_cast<std::size_t>(width) * height * 4, 0.f);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  check_gl("renderer: framebuffer setup");
+  width_ = width;
+  height_ = height;
+  spdlog::debug("render: framebuffer {}x{}, depth read as {}", width, height,
+                read_depth_as_red_ ? "R32F" : "RGBA32F");
+}
+
+const Renderer::GpuMesh& Renderer::upload(const std::shared_ptr<const Mesh>& mesh) {
+  auto it = meshes_.find(mesh.get());
+  if (it != meshes_.end() && it->second->source.lock() == mesh) return *it->second;
+  mesh->validate();
+  auto gpu = std::make_unique<GpuMesh>();
+  gpu->source = mesh;
+  gpu->vao = make_vertex_array();
+  gpu->vertices = make_buffer();
+  gpu->indices = make_buffer();
+  gpu->index_count = static_cast<GLsizei>(mesh->indices.size());
+  gpu->base_colour = mesh->base_colour;
+  std::vector<float> interleaved;
+  interleaved.reserve(mesh->positions.size() * 6);
+  for (std::size_t i = 0; i < mesh->positions.size(); ++i) {
+    interleaved.insert(interleaved.end(), mesh->positions[i].data(), mesh->positions[i].data() + 3);
+    interleaved.insert(interleaved.end(), mesh->normals[i].data(), mesh->normals[i].data() + 3);
+  }
+  glBindVertexArray(gpu->vao.get());
+  glBindBuffer(GL_ARRAY_BUFFER, gpu->vertices.get());
+  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)),
+               interleaved.data(), GL_STATIC_DRAW);
+  const GLsizei stride = 6 * sizeof(float);
+  glEnableVertexAttribArray(kPosition);
+  glVertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  glEnableVertexAttribArray(kNormal);
+  glVertexAttribPointer(kNormal, 3, GL_FLOAT, GL_FALSE, stride,
+                        reinterpret_cast<const void*>(3 * sizeof(float)));
+  if (!mesh->colours.empty()) {
+    gpu->colours = make_buffer();
+    glBindBuffer(GL_ARRAY_BUFFER, gpu->colours.get());
+    glBufferData(GL_ARRAY_BUFFER,
+                 static_cast<GLsizeiptr>(mesh->colours.size() * sizeof(Eigen::Vector4f)),
+                 mesh->colours.data(), GL_STATIC_DRAW);
+    glEnableVertexAttribArray(kColour);
+    glVertexAttribPointer(kColour, 4, GL_FLOAT, GL_FALSE, sizeof(Eigen::Vector4f), nullptr);
+  }
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu->indices.get());
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER,
+               static_cast<GLsizeiptr>(mesh->indices.size() * sizeof(std::uint32_t)),
+               mesh->indices.data(), GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  check_gl("renderer: mesh upload");
+  auto& slot = meshes_[mesh.get()];
+  slot = std::move(gpu);
+  return *slot;
+}
+
+void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& objects,
+                      RenderTarget& out) {
+  context_->make_current();
+  const PinholeIntrinsics& k = camera.intrinsics;
+  if (k.width != width_ || k.height != height_) resize(k.width, k.height);
+  std::erase_if(meshes_, [](const auto& entry) { return entry.second->source.expired(); });
+
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
+  glViewport(0, 0, width_, height_);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_BLEND);
+  glFrontFace(GL_CW);  // window y runs down (see projection_from_intrinsics)
+  glCullFace(GL_BACK);
+  const GLfloat zero[4] = {0, 0, 0, 0};
+  const GLfloat far_depth = 1.f;
+  glClearBufferfv(GL_COLOR, 0, zero);
+  glClearBufferfv(GL_COLOR, 1, zero);
+  glClearBufferfv(GL_DEPTH, 0, &far_depth);
+
+  const Eigen::Matrix4f projection =
+      projection_from_intrinsics(k, config_.near_m, config_.far_m).cast<float>();
+  const Eigen::Vector3f light = config_.light_direction_world.normalized().cast<float>();
+  const Pose T_camera_world = camera.T_world_camera.inverse();
+  const Program* bound = nullptr;
+  for (const VirtualObject& object : objects) {
+    if (!object.mesh) throw std::invalid_argument("renderer: a virtual object has no mesh");
+    if (!(object.scale > 0))
+      throw std::invalid_argument("renderer: object scale must be > 0 (mesh '" + object.mesh->name +
+                                  "')");
+    const GpuMesh& gpu = upload(object.mesh);
+    const Program& prog = *programs_.at(static_cast<std::size_t>(object.material.shading));
+    if (&prog != bound) {
+      glUseProgram(prog.program.get());
+      glUniformMatrix4fv(prog.projection, 1, GL_FALSE, projection.data());
+      glUniform3fv(prog.light_dir, 1, light.data());
+      glUniform1f(prog.ambient, config_.ambient);
+      bound = &prog;
+    }
+    // Composed in double so that a world far from the origin keeps its precision.
+    Eigen::Matrix4d camera_from_object = (T_camera_world * object.T_world_object).matrix();
+    camera_from_object.topLeftCorner<3, 3>() *= object.scale;
+    const Eigen::Matrix4f m = camera_from_object.cast<float>();
+    const Eigen::Matrix3f r = object.T_world_object.rotation.toRotationMatrix().cast<float>();
+    const Eigen::Vector4f colour = object.material.base_colour.cwiseProduct(gpu.base_colour);
+    glUniformMatrix4fv(prog.camera_from_object, 1, GL_FALSE, m.data());
+    glUniformMatrix3fv(prog.world_from_object, 1, GL_FALSE, r.data());
+    glUniform4fv(prog.base_colour, 1, colour.data());
+    if (object.material.double_sided)
+      glDisable(GL_CULL_FACE);
+    else
+      glEnable(GL_CULL_FACE);
+    glBindVertexArray(gpu.vao.get());
+    if (!gpu.colours) glVertexAttrib4f(kColour, 1.f, 1.f, 1.f, 1.f);
+    glDrawElements(GL_TRIANGLES, gpu.index_count, GL_UNSIGNED_INT, nullptr);
+  }
+  glBindVertexArray(0);
+  read_back(out);
+  check_gl("renderer: render");
+}
+
+void Renderer::read_back(RenderTarget& out) {
+  if (out.color.width() != width_ || out.color.height() != height_)
+    out.color = ImageRGBA8(width_, height_);
+  if (out.depth_mm.width() != width_ || out.depth_mm.height() != height_)
+    out.depth_mm = ImageF(width_, height_);
+  // Rows come bottom-up from GL, and the projection already put the image's top row there.
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.color.data());
+  glReadBuffer(GL_COLOR_ATTACHMENT1);
+  if (read_depth_as_red_) {
+    glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, out.depth_mm.data());
+  } else {
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, depth_scratch_.data());
+    float* d = out.depth_mm.data();
+    for (std::size_t i = 0; i < out.depth_mm.pixel_count(); ++i) d[i] = depth_scratch_[4 * i];
+  }
+}
+
+std::unique_ptr<Renderer::Program> Renderer::make_program(Material::Shading shading) {
+  auto p = std::make_unique<Program>();
+  switch (shading) {
+    case Material::Shading::Lambert:
+      p->program = link_program("lambert", shaders::lambert_vertex, shaders::lambert_fragment);
+      break;
+  }
+  const GLuint id = p->program.get();
+  auto uniform = [&](const char* name) {
+    const GLint loc = glGetUniformLocation(id, name);
+    if (loc < 0) throw GlError(std::string("shader lacks uniform ") + name);
+    return loc;
+  };
+  p->camera_from_object = uniform("u_camera_from_object");
+  p->projection = uniform("u_projection");
+  p->world_from_object = uniform("u_world_from_object");
+  p->base_colour = uniform("u_base_colour");
+  p->light_dir = uniform("u_light_dir_world");
+  p->ambient = uniform("u_ambient");
+  return p;
+}
+
+}  // namespace probeless::render
