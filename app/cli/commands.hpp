@@ -24,6 +24,8 @@ void add_devices_command(CLI::App& app);
 void add_bench_composite_command(CLI::App& bench);
 // probeless eval occlusion --dataset KIND:DIR [--json F --plots D] (eval_occlusion_command.cpp)
 void add_eval_occlusion_command(CLI::App& eval);
+// probeless eval hdr --image F.hdr [--bits 8|12] [--json F] (eval_hdr_command.cpp)
+void add_eval_hdr_command(CLI::App& eval);
 // probeless bench occlusion [--json FILE] (bench_occlusion_command.cpp)
 void add_bench_occlusion_command(CLI::App& bench);
 

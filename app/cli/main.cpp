@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   auto* eval = app.add_subcommand("eval", "Evaluations against ground truth");
   eval->require_subcommand(1);
   probeless::cli::add_eval_occlusion_command(*eval);
+  probeless::cli::add_eval_hdr_command(*eval);
 
   app.parse_complete_callback([&] { probeless::cli::setup_logging(log_level.c_str()); });
   try {

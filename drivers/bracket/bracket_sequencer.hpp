@@ -1,0 +1,84 @@
+#pragma once
+// The bracket sequencer: which exposure the fisheye takes next, in the L, M, H, M cycle, and
+// how the low and high exposures follow the scene (thesis ch. 5; docs/bracketing.md). No
+// device and no OpenCL here: a camera driver applies next() and feeds observe() with counts
+// from the frame (count_exposure on the CPU; an OpenCL reduction is a later step).
+#include <cstddef>
+#include <cstdint>
+
+#include "core/exposure.hpp"
+#include "core/image.hpp"
+
+namespace probeless {
+
+struct BracketConfig {
+  double mains_hz = 50.0;         // time <= one mains period (flicker); <= 0: no mains limit
+  double min_time_s = 1e-5;       // the camera's shortest integration
+  double max_time_s = 0.1;        // the camera's longest (its frame period)
+  double max_gain_db = 24.0;      // the camera's highest analogue gain (0 dB is the lowest)
+  double saturated_fraction_threshold = 0.001;  // low: one stop down above this
+  double zero_fraction_threshold = 0.001;       // high: one stop up above this
+  double initial_exposure = 0.005;  // E of the medium level at start (e.g. the camera's AE)
+  int initial_spread_stops = 3;     // L and H start this many stops below / above M
+  int min_spacing_stops = 1;        // at least one stop between L, M and H (thesis)
+  bool adapt_medium = true;         // false: M stays at initial_exposure
+  int medium_period_cycles = 2;     // adapted M moves at most one stop per this many cycles
+};
+
+// Counts over one frame. near_saturated / near_zero predict the next stop (pixels that one
+// stop more would saturate, one stop less would zero; they include the saturated / zero ones)
+// and keep L and H from stepping into an exposure they would step straight back out of. Left
+// at 0 they give the thesis's rule exactly.
+struct ExposureStats {
+  std::size_t pixels = 0;
+  std::size_t saturated = 0;  // any channel at full scale
+  std::size_t zero = 0;       // any channel at or below the black level
+  std::size_t near_saturated = 0;
+  std::size_t near_zero = 0;
+};
+
+// The noise widens the predictions so that L and H do not flicker between two stops:
+// near_zero takes the pixels whose halved signal read noise could take to zero (signal <=
+// 1 + 6 sigma_read), near_saturated those whose doubled signal noise at full scale could
+// saturate (2 signal + 3 sigma_full >= range). 0 and 0: the noise-free predictions.
+ExposureStats count_exposure(const ImageRGB16& raw, int bit_depth, std::uint16_t black_level,
+                             double read_noise_dn = 0.0, double full_scale_noise_dn = 0.0);
+
+// Longest time (up to the mains period and the camera's max), then the lowest gain that
+// reaches E; clamped to what the camera can do.
+Exposure split_exposure(double exposure_value, const BracketConfig& config);
+// The longest integration split_exposure uses: min(max_time_s, 1 / mains_hz).
+double max_integration_time(const BracketConfig& config);
+
+class BracketSequencer {
+ public:
+  explicit BracketSequencer(const BracketConfig& config = {});
+
+  // The exposure for the next frame, with its level, cycle position (0..3 = L, M, H, M) and
+  // cycle count; advances the cycle.
+  ExposureStamp next();
+  // Counts from a frame taken with `taken`. Returns true when an exposure changed. Frames
+  // taken at a stop the sequencer has since left (latency) and Fixed frames are ignored.
+  bool observe(const ExposureStamp& taken, const ExposureStats& stats);
+
+  // Exposures in stops relative to initial_exposure.
+  int low_stop() const { return stop_[0]; }
+  int medium_stop() const { return stop_[1]; }
+  int high_stop() const { return stop_[2]; }
+  int min_stop() const { return min_stop_; }
+  int max_stop() const { return max_stop_; }
+  double exposure_value(int stop) const;
+  const BracketConfig& config() const { return config_; }
+
+ private:
+  int stop_of(const Exposure& e) const;
+
+  BracketConfig config_;
+  int stop_[3] = {0, 0, 0};  // L, M, H
+  int min_stop_ = 0;
+  int max_stop_ = 0;
+  std::uint64_t frame_ = 0;
+  std::int64_t medium_last_move_cycle_ = -1000;  // long ago
+};
+
+}  // namespace probeless
