@@ -39,7 +39,9 @@ struct Timing {
 
 Timing percentiles(std::vector<double> ms) {
   std::sort(ms.begin(), ms.end());
-  auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * ms.size()))]; };
+  auto at = [&](double q) {
+    return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * ms.size()))];
+  };
   return {at(0.5), at(0.99)};
 }
 
@@ -56,7 +58,8 @@ fs::path default_scene() {
 // A synthetic stand-in when no Middlebury data is present: textured wall at 2.2 m, a box and
 // a disc in front, holes along their edges, the virtual plane slanting through them.
 eval::EvalFrame synthetic_frame(int w, int h) {
-  eval::EvalFrame f{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h), ImageF(w, h), ImageGray8(w, h)};
+  eval::EvalFrame f{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h), ImageF(w, h),
+                    ImageGray8(w, h)};
   std::mt19937 rng(3);
   std::normal_distribution<float> n(0.0F, 10.0F);
   for (int y = 0; y < h; ++y)
@@ -64,7 +67,9 @@ eval::EvalFrame synthetic_frame(int w, int h) {
       const bool disc = std::hypot(x - 0.35F * w, y - 0.5F * h) < 0.22F * h;
       const bool box = x > 0.6F * w && x < 0.85F * w && y > 0.2F * h;
       const float z = disc ? 1200.0F : box ? 1500.0F : 2200.0F;
-      const std::uint8_t base[3] = {std::uint8_t(disc ? 200 : box ? 60 : 120),
+      const std::uint8_t base[3] = {std::uint8_t(disc  ? 200
+                                                 : box ? 60
+                                                       : 120),
                                     std::uint8_t(box ? 170 : 90), std::uint8_t(disc ? 40 : 150)};
       for (int c = 0; c < 3; ++c)
         f.color.at(x, y, c) = std::uint8_t(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
@@ -124,14 +129,16 @@ void run(const Options& o) {
   ImageF ref_alpha;
   for (int i = 0; i < 2 + o.reference_frames; ++i) {
     const auto t0 = Clock::now();
-    ref_alpha = eval::cvf_opencv_reference(frame.color, frame.real_depth_mm,
-                                           frame.virtual_depth_mm, params);
-    if (i >= 2) ref_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    ref_alpha = eval::cvf_opencv_reference(frame.color, frame.real_depth_mm, frame.virtual_depth_mm,
+                                           params);
+    if (i >= 2)
+      ref_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
   occlusion::CvfParams exact = params;
   exact.wide.subsample = 1;
   const auto exact_alpha =
-      occlusion::cvf_reference(frame.color, frame.real_depth_mm, frame.virtual_depth_mm, exact).alpha;
+      occlusion::cvf_reference(frame.color, frame.real_depth_mm, frame.virtual_depth_mm, exact)
+          .alpha;
 
   const double mse_device = eval::matte_mse(device_alpha, frame.truth, frame.mask).value_or(0);
   const double mse_ref = eval::matte_mse(ref_alpha, frame.truth, frame.mask).value_or(0);
@@ -152,7 +159,9 @@ void run(const Options& o) {
                            mse_exact > 0 ? mse_device / mse_exact : 1.0);
   if (!o.json.empty()) {
     nlohmann::json j;
-    j["cvf"] = {{"p50_ms", td.p50}, {"p99_ms", td.p99}, {"mse", mse_device},
+    j["cvf"] = {{"p50_ms", td.p50},
+                {"p99_ms", td.p99},
+                {"mse", mse_device},
                 {"wide_subsample", params.wide.subsample}};
     j["opencv_reference"] = {{"p50_ms", tr.p50}, {"p99_ms", tr.p99}, {"mse", mse_ref}};
     j["exact_reference"] = {{"mse", mse_exact}};

@@ -76,11 +76,13 @@ void add_eval_occlusion_command(CLI::App& eval) {
                   "middlebury:DIR, alphamatting:DIR or frames:DIR (docs/occlusion.md)")
       ->required();
   cmd->add_option("--json", o->json, "Write the scores as JSON to this file");
-  cmd->add_option("--plots", o->plots, "Write bar plots and example mattes (PNG) into this directory");
+  cmd->add_option("--plots", o->plots,
+                  "Write bar plots and example mattes (PNG) into this directory");
   cmd->add_option("--methods", o->methods,
                   "Comma-separated subset of: cvf,direct1,direct2,guided,bilateral,crabb,"
                   "arcore_soft,meta_soft");
-  cmd->add_option("--frames", o->frames, "Noisy frames K per Middlebury scene")->capture_default_str();
+  cmd->add_option("--frames", o->frames, "Noisy frames K per Middlebury scene")
+      ->capture_default_str();
   cmd->add_option("--seed", o->seed, "First noise seed")->capture_default_str();
   cmd->add_option("--crop", o->crop, "Evaluate the centre WxH crop of every frame");
   cmd->add_option("--max-scenes", o->max_scenes, "Evaluate at most this many scenes (0 = all)");

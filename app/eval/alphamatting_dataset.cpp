@@ -25,7 +25,8 @@ std::vector<EvalCase> alphamatting_cases(const fs::path& root) {
   if (!fs::is_directory(root)) throw ImageFileError(root, "no such dataset directory");
   const fs::path input = root / "input", gt = root / "gt";
   for (const auto& d : {input, gt})
-    if (!fs::is_directory(d)) throw ImageFileError(d, "missing (alphamatting layout: input/, gt/, Trimap*/)");
+    if (!fs::is_directory(d))
+      throw ImageFileError(d, "missing (alphamatting layout: input/, gt/, Trimap*/)");
   std::vector<fs::path> trimap_dirs, images;
   for (const auto& e : fs::directory_iterator(root))
     if (e.is_directory() && e.path().filename().string().rfind("Trimap", 0) == 0)

@@ -33,7 +33,8 @@ ImageF cvf_opencv_reference(const ImageRGB8& color, const DepthImage& real_depth
     cv::dilate(behind, near_be, k);
     for (int i = 0; i < n; ++i) {
       const auto c = static_cast<Category>(cat.data[i]);
-      if ((c == Category::Infront && near_be.data[i]) || (c == Category::Behind && near_in.data[i])) {
+      if ((c == Category::Infront && near_be.data[i]) ||
+          (c == Category::Behind && near_in.data[i])) {
         cat.data[i] = static_cast<std::uint8_t>(Category::Process);
         process.data[i] = 255;
       }
@@ -43,7 +44,8 @@ ImageF cvf_opencv_reference(const ImageRGB8& color, const DepthImage& real_depth
   cv::dilate(process, band,
              cv::getStructuringElement(cv::MORPH_RECT, {2 * p.band_px + 1, 2 * p.band_px + 1}));
   const int b = p.bins_per_channel;
-  ColourModels models{b, std::vector<std::uint32_t>(b * b * b), std::vector<std::uint32_t>(b * b * b)};
+  ColourModels models{b, std::vector<std::uint32_t>(b * b * b),
+                      std::vector<std::uint32_t>(b * b * b)};
   std::vector<int> bins(n);
   for (int i = 0; i < n; ++i) {
     const std::uint8_t* px = color.data() + 3 * i;
@@ -65,10 +67,10 @@ ImageF cvf_opencv_reference(const ImageRGB8& color, const DepthImage& real_depth
   cv::Mat mask(h, w, CV_32F);
   for (int i = 0; i < n; ++i) {
     const auto c = static_cast<Category>(cat.data[i]);
-    mask.ptr<float>()[i] = c == Category::Infront  ? 1.0F
-                           : c == Category::Behind ? 0.0F
+    mask.ptr<float>()[i] = c == Category::Infront        ? 1.0F
+                           : c == Category::Behind       ? 0.0F
                            : wide.ptr<float>()[i] > 0.5F ? 1.0F
-                                                        : 0.0F;
+                                                         : 0.0F;
   }
   cv::ximgproc::guidedFilter(guide, mask, feather, p.feather.radius, p.feather.eps, CV_32F);
   ImageF alpha(w, h);

@@ -9,6 +9,7 @@
 namespace probeless::eval {
 
 ImageF cvf_opencv_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
-                            const ImageF& virtual_depth_mm, const occlusion::CvfParams& params = {});
+                            const ImageF& virtual_depth_mm,
+                            const occlusion::CvfParams& params = {});
 
 }  // namespace probeless::eval

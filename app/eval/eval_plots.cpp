@@ -64,7 +64,7 @@ void text(ImageRGB8& img, int x, int y, const std::string& s, Rgb c) {
   }
 }
 
-const Rgb kPalette[] = {{214, 39, 40},  {31, 119, 180}, {255, 127, 14}, {44, 160, 44},
+const Rgb kPalette[] = {{214, 39, 40},   {31, 119, 180}, {255, 127, 14},  {44, 160, 44},
                         {148, 103, 189}, {140, 86, 75},  {227, 119, 194}, {127, 127, 127}};
 
 void bar_plot(const fs::path& path, const std::string& title, const EvalReport& r,
@@ -88,7 +88,8 @@ void bar_plot(const fs::path& path, const std::string& title, const EvalReport& 
     fill(img, left - 3, y, w - 10, y + 1, t ? Rgb{220, 220, 220} : Rgb{0, 0, 0});
     text(img, 2, y - 3, fmt::format("{:.2g}", top_v * t / 4), {0, 0, 0});
   }
-  auto draw_group = [&](int g, const std::string& name, const std::map<std::string, MethodScore>& s) {
+  auto draw_group = [&](int g, const std::string& name,
+                        const std::map<std::string, MethodScore>& s) {
     const int x0 = left + g * group + gap / 2;
     for (std::size_t m = 0; m < r.methods.size(); ++m)
       if (auto v = get(s.at(r.methods[m]))) {
@@ -99,7 +100,8 @@ void bar_plot(const fs::path& path, const std::string& title, const EvalReport& 
     const auto label = name.size() > std::size_t(group / 6) ? name.substr(0, group / 6) : name;
     text(img, x0, top + plot_h + 6, label, {0, 0, 0});
   };
-  for (std::size_t g = 0; g < r.scenes.size(); ++g) draw_group(int(g), r.scenes[g].name, r.scenes[g].methods);
+  for (std::size_t g = 0; g < r.scenes.size(); ++g)
+    draw_group(int(g), r.scenes[g].name, r.scenes[g].methods);
   draw_group(int(r.scenes.size()), "mean", r.mean);
   int lx = left;
   for (std::size_t m = 0; m < r.methods.size(); ++m) {
@@ -134,7 +136,8 @@ void write_example_mattes(const fs::path& dir, const EvalCase& c,
   write_png(dir / (stem + "_color.png"), c.frames[0].color);
   write_png(dir / (stem + "_truth.png"), to_gray(c.frames[0].truth));
   for (std::size_t m = 0; m < methods.size(); ++m)
-    if (!alphas[m].empty()) write_png(dir / (stem + "_" + methods[m] + ".png"), to_gray(alphas[m][0]));
+    if (!alphas[m].empty())
+      write_png(dir / (stem + "_" + methods[m] + ".png"), to_gray(alphas[m][0]));
 }
 
 void write_bar_plots(const fs::path& dir, const EvalReport& r) {

@@ -18,7 +18,8 @@ std::vector<std::string> frame_ids(const fs::path& dir) {
   const std::string suffix = kColorSuffix;
   for (const auto& e : fs::directory_iterator(dir)) {
     const auto name = e.path().filename().string();
-    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+    if (name.size() > suffix.size() &&
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
       ids.insert(name.substr(0, name.size() - suffix.size()));
   }
   return {ids.begin(), ids.end()};
@@ -35,13 +36,15 @@ EvalCase load_sequence(const fs::path& dir, const std::vector<std::string>& ids)
     const auto matte = read_png_gray8(dir / (id + "_matte.png"));
     const int w = f.color.width(), h = f.color.height();
     auto check = [&](int iw, int ih, const std::string& file) {
-      if (iw != w || ih != h) throw ImageFileError(dir / file, "size differs from the colour frame");
+      if (iw != w || ih != h)
+        throw ImageFileError(dir / file, "size differs from the colour frame");
     };
     check(f.real_depth_mm.width(), f.real_depth_mm.height(), id + "_depth.png");
     check(f.virtual_depth_mm.width(), f.virtual_depth_mm.height(), id + "_virtual_depth.pfm");
     check(matte.width(), matte.height(), id + "_matte.png");
     f.truth = ImageF(w, h);
-    for (std::size_t i = 0; i < matte.pixel_count(); ++i) f.truth.data()[i] = matte.data()[i] / 255.0F;
+    for (std::size_t i = 0; i < matte.pixel_count(); ++i)
+      f.truth.data()[i] = matte.data()[i] / 255.0F;
     const fs::path mask_path = dir / (id + "_mask.png");
     if (fs::exists(mask_path)) {
       f.mask = read_png_gray8(mask_path);
@@ -72,7 +75,8 @@ std::vector<EvalCase> recorded_cases(const fs::path& root) {
   for (const auto& d : dirs)
     if (auto ids = frame_ids(d); !ids.empty()) cases.push_back(load_sequence(d, ids));
   if (cases.empty())
-    throw ImageFileError(root, "no recorded sequence (NNNNNN_color.png frames) here or one level down");
+    throw ImageFileError(root,
+                         "no recorded sequence (NNNNNN_color.png frames) here or one level down");
   return cases;
 }
 

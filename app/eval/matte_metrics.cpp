@@ -45,10 +45,9 @@ ImageGray8 silhouette_band(const ImageF& truth, const ImageGray8& mask, int radi
   };
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      if (mask.at(x, y) && ((x > 0 && differs(x, y, x - 1, y)) ||
-                            (x + 1 < w && differs(x, y, x + 1, y)) ||
-                            (y > 0 && differs(x, y, x, y - 1)) ||
-                            (y + 1 < h && differs(x, y, x, y + 1))))
+      if (mask.at(x, y) &&
+          ((x > 0 && differs(x, y, x - 1, y)) || (x + 1 < w && differs(x, y, x + 1, y)) ||
+           (y > 0 && differs(x, y, x, y - 1)) || (y + 1 < h && differs(x, y, x, y + 1))))
         edge.at(x, y) = 1;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {

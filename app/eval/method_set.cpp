@@ -14,8 +14,8 @@ namespace probeless::eval {
 using namespace probeless::occlusion;
 
 const std::vector<std::string>& all_method_names() {
-  static const std::vector<std::string> names = {"cvf",       "direct1", "direct2",     "guided",
-                                                 "bilateral", "crabb",   "arcore_soft", "meta_soft"};
+  static const std::vector<std::string> names = {
+      "cvf", "direct1", "direct2", "guided", "bilateral", "crabb", "arcore_soft", "meta_soft"};
   return names;
 }
 

@@ -17,7 +17,8 @@ struct MethodSettings {
 };
 
 // Throws std::invalid_argument for an unknown name.
-std::unique_ptr<occlusion::OcclusionMethod> make_method(ComputeContext& ctx, const std::string& name,
+std::unique_ptr<occlusion::OcclusionMethod> make_method(ComputeContext& ctx,
+                                                        const std::string& name,
                                                         const MethodSettings& settings = {});
 
 }  // namespace probeless::eval

@@ -86,7 +86,8 @@ StereoScene load_2014(const fs::path& dir) {
   for (int y = 0; y < disp.height(); ++y)
     for (int x = 0; x < disp.width(); ++x) {
       const double d = disp.at(x, y);
-      if (std::isfinite(d) && d + doffs > 0) s.depth_mm.at(x, y) = to_mm(baseline * f / (d + doffs));
+      if (std::isfinite(d) && d + doffs > 0)
+        s.depth_mm.at(x, y) = to_mm(baseline * f / (d + doffs));
     }
   s.focal_px = f;
   return s;
@@ -135,16 +136,18 @@ std::vector<fs::path> find_middlebury_scenes(const fs::path& root) {
   std::sort(found.begin(), found.end());
   found.erase(std::unique(found.begin(), found.end()), found.end());
   if (found.empty())
-    throw ImageFileError(root, "no Middlebury scene (imL.png + groundtruth.png, or im0.png + "
-                               "disp0GT.pfm) here or two levels down");
+    throw ImageFileError(root,
+                         "no Middlebury scene (imL.png + groundtruth.png, or im0.png + "
+                         "disp0GT.pfm) here or two levels down");
   return found;
 }
 
 StereoScene load_middlebury_scene(const fs::path& dir) {
   if (is_2014(dir)) return load_2014(dir);
   if (is_v2(dir)) return load_v2(dir);
-  throw ImageFileError(dir, "neither a Middlebury v2 (imL.png, groundtruth.png) nor a 2014 "
-                            "(im0.png, disp0GT.pfm) scene");
+  throw ImageFileError(dir,
+                       "neither a Middlebury v2 (imL.png, groundtruth.png) nor a 2014 "
+                       "(im0.png, disp0GT.pfm) scene");
 }
 
 ImageF place_virtual_object(const StereoScene& scene, VirtualShape shape) {
@@ -194,7 +197,8 @@ ImageF place_virtual_object(const StereoScene& scene, VirtualShape shape) {
     if (n == 0) break;
     const double f = double(front) / double(n);
     // Outside 20..80 % in front the placement is only a fallback, ranked by its balance.
-    const double score = (f >= 0.2 && f <= 0.8) ? double(near) / double(n) : 10.0 + std::fabs(f - 0.5);
+    const double score =
+        (f >= 0.2 && f <= 0.8) ? double(near) / double(n) : 10.0 + std::fabs(f - 0.5);
     if (score < best_score) best_score = score, best_z = z0;
   }
   for (int y = 0; y < h; ++y)

@@ -58,7 +58,8 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
   EvalReport report;
   report.methods = options.methods;
   std::vector<std::unique_ptr<occlusion::OcclusionMethod>> methods;
-  for (const auto& name : options.methods) methods.push_back(make_method(ctx, name, options.settings));
+  for (const auto& name : options.methods)
+    methods.push_back(make_method(ctx, name, options.settings));
   auto& queue = ctx.queue();
 
   for (const auto& c : cases) {
@@ -105,7 +106,8 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
       if (c.report_sad) s.sad = sad_sum / static_cast<double>(c.frames.size());
       scene.methods[options.methods[m]] = s;
     }
-    if (!options.plots_dir.empty()) write_example_mattes(options.plots_dir, c, options.methods, alphas);
+    if (!options.plots_dir.empty())
+      write_example_mattes(options.plots_dir, c, options.methods, alphas);
     report.scenes.push_back(std::move(scene));
   }
 
@@ -159,10 +161,9 @@ std::string table(const EvalReport& r, const char* title, double scale,
 std::string format_report(const EvalReport& r) {
   std::string out;
   out += table(r, "MSE x1e3", 1e3, [](const MethodScore& s) { return std::optional(s.mse); });
-  out += table(r, "boundary MSE x1e3", 1e3,
-               [](const MethodScore& s) { return s.boundary_mse; });
-  out += table(r, "temporal noise x1e3", 1e3,
-               [](const MethodScore& s) { return s.temporal_noise; });
+  out += table(r, "boundary MSE x1e3", 1e3, [](const MethodScore& s) { return s.boundary_mse; });
+  out +=
+      table(r, "temporal noise x1e3", 1e3, [](const MethodScore& s) { return s.temporal_noise; });
   out += table(r, "SAD /1000", 1.0, [](const MethodScore& s) { return s.sad; });
   return out;
 }

@@ -4,11 +4,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "app/eval/eval_case.hpp"
 #include "app/eval/method_set.hpp"
@@ -42,8 +41,8 @@ struct EvalOptions {
   std::uint64_t seed = 1;
   int crop_width = 0, crop_height = 0;  // centre crop; 0 = whole frames
   int boundary_px = 10;
-  int max_scenes = 0;                    // 0 = all
-  std::filesystem::path plots_dir;       // empty = no plots
+  int max_scenes = 0;               // 0 = all
+  std::filesystem::path plots_dir;  // empty = no plots
 };
 
 // "middlebury:DIR", "alphamatting:DIR" or "frames:DIR". Throws std::invalid_argument for a

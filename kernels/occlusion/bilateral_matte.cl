@@ -1,9 +1,8 @@
 // The "Bilateral" baseline (bilateral_matte_reference.cpp): process pixels take the joint
 // bilateral average of the infront (0) and behind (1) pixels of their window.
 // ks = -1 / (2 sigma_s^2), kc = -1 / (2 sigma_c^2 255^2).
-__kernel void bilateral_matte(__global const uchar* rgb, __global const uchar* categories,
-                              int w, int h, int radius, float ks, float kc,
-                              __global float* alpha) {
+__kernel void bilateral_matte(__global const uchar* rgb, __global const uchar* categories, int w,
+                              int h, int radius, float ks, float kc, __global float* alpha) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= w || y >= h) return;
   const int i = y * w + x;

@@ -10,9 +10,9 @@ namespace probeless::occlusion {
 
 struct BilateralMatteParams {
   CategoriseParams categorise;
-  int radius = 6;              // as CVF's wide filter
+  int radius = 6;  // as CVF's wide filter
   float sigma_space_px = 3.0F;
-  float sigma_colour = 0.1F;   // Euclidean RGB distance, components in [0, 1]
+  float sigma_colour = 0.1F;  // Euclidean RGB distance, components in [0, 1]
 };
 
 ImageF bilateral_matte_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,

@@ -60,7 +60,8 @@ CategoryImage categorise_reference(const DepthImage& real_depth_mm, const ImageF
       if (c != Category::Infront && c != Category::Behind) continue;
       const std::uint8_t own = static_cast<std::uint8_t>(1U << (int(c) - 1));
       // Only the other known class erodes (bits 0 and 1); process pixels do not.
-      if ((near.at(x, y) & ~own & 3U) != 0) out.at(x, y) = static_cast<std::uint8_t>(Category::Process);
+      if ((near.at(x, y) & ~own & 3U) != 0)
+        out.at(x, y) = static_cast<std::uint8_t>(Category::Process);
     }
   return out;
 }

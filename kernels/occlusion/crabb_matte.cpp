@@ -17,8 +17,7 @@ void CrabbMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha
   alpha.resize(ctx_.context(), w, h);
   if (alpha.empty()) return;
   set_args(mean_, in.virtual_depth_mm->buffer(), w * h, stats_);
-  ctx_.queue().enqueueNDRangeKernel(mean_, ::cl::NullRange, ::cl::NDRange(256),
-                                    ::cl::NDRange(256));
+  ctx_.queue().enqueueNDRangeKernel(mean_, ::cl::NullRange, ::cl::NDRange(256), ::cl::NDRange(256));
   set_args(matte_, in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), stats_, w, h,
            alpha.buffer());
   run_pixels(ctx_, matte_, w, h);

@@ -79,8 +79,8 @@ __kernel void cvf_cost_pack(__global const uchar* rgb, __global const ushort* re
       if (x >= w || y >= h) continue;
       const int i = y * w + x;
       const uchar r = rgb[3 * i], g = rgb[3 * i + 1], b = rgb[3 * i + 2];
-      const float cost = pixel_cost(categories[i], colour_bin(r, g, b), lh, inv_in, inv_be,
-                                    valid, real_mm[i], virtual_mm[i]);
+      const float cost = pixel_cost(categories[i], colour_bin(r, g, b), lh, inv_in, inv_be, valid,
+                                    real_mm[i], virtual_mm[i]);
       sum += (float4)((float)r, (float)g, (float)b, 0.0f) * (1.0f / 255.0f) +
              (float4)(0.0f, 0.0f, 0.0f, cost);
       ++n;
@@ -97,8 +97,8 @@ __kernel void cvf_mask_pack(__global const uchar* rgb, __global const uchar* cat
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= w || y >= h) return;
   const int i = y * w + x;
-  const float4 I = (float4)((float)rgb[3 * i], (float)rgb[3 * i + 1], (float)rgb[3 * i + 2],
-                            0.0f) * (1.0f / 255.0f);
+  const float4 I = (float4)((float)rgb[3 * i], (float)rgb[3 * i + 1], (float)rgb[3 * i + 2], 0.0f) *
+                   (1.0f / 255.0f);
   float4 m;
 #if SUBSAMPLE == 1
   m = mean_ab[i];

@@ -16,15 +16,17 @@ __kernel void cvf_raw_bits(__global const ushort* real_mm, __global const float*
   const float v = virtual_mm[i];
   const ushort r = real_mm[i];
   int c;
-  if (!(v > 0.0f)) c = CAT_IGNORE;
-  else if (r == 0 || fabs((float)r - v) <= tolerance_mm) c = CAT_PROCESS;
-  else c = (float)r < v ? CAT_INFRONT : CAT_BEHIND;
+  if (!(v > 0.0f))
+    c = CAT_IGNORE;
+  else if (r == 0 || fabs((float)r - v) <= tolerance_mm)
+    c = CAT_PROCESS;
+  else
+    c = (float)r < v ? CAT_INFRONT : CAT_BEHIND;
   bits[i] = c == CAT_IGNORE ? 0 : (uchar)(1 << (c - 1));
 }
 
 // OR over the clipped window of radius r, along rows then along columns.
-__kernel void cvf_dilate_rows(__global const uchar* src, __global uchar* dst, int w, int h,
-                              int r) {
+__kernel void cvf_dilate_rows(__global const uchar* src, __global uchar* dst, int w, int h, int r) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= w || y >= h) return;
   __global const uchar* row = src + y * w;
@@ -33,8 +35,7 @@ __kernel void cvf_dilate_rows(__global const uchar* src, __global uchar* dst, in
   dst[y * w + x] = v;
 }
 
-__kernel void cvf_dilate_cols(__global const uchar* src, __global uchar* dst, int w, int h,
-                              int r) {
+__kernel void cvf_dilate_cols(__global const uchar* src, __global uchar* dst, int w, int h, int r) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= w || y >= h) return;
   uchar v = 0;
@@ -56,4 +57,3 @@ __kernel void cvf_erode(__global const uchar* raw_bits, __global const uchar* ne
   categories[i] = (uchar)c;
   process[i] = c == CAT_PROCESS ? 1 : 0;
 }
-

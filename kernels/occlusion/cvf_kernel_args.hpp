@@ -2,7 +2,6 @@
 // Helpers of the occlusion stages: set_args(kernel, a, b, c) sets arguments 0, 1, 2, ...;
 // run_pixels() enqueues a per-pixel 2D kernel in large work-groups.
 #include <CL/opencl.hpp>
-
 #include <algorithm>
 #include <utility>
 

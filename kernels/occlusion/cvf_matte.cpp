@@ -12,9 +12,9 @@ namespace probeless::occlusion {
 namespace {
 
 int low_radius(const GuidedFilterParams& p) {
-  return p.subsample == 1 ? p.radius
-                          : std::max(1, static_cast<int>(std::lround(double(p.radius) /
-                                                                     p.subsample)));
+  return p.subsample == 1
+             ? p.radius
+             : std::max(1, static_cast<int>(std::lround(double(p.radius) / p.subsample)));
 }
 
 const CvfParams& checked(const CvfParams& p) {
@@ -36,8 +36,8 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfParams& params)
       wide_(ctx, low_radius(params.wide), params.wide.eps, GuidedFilter::Output::MeanCoefficients),
       feather_(ctx, params.feather.radius, params.feather.eps,
                GuidedFilter::Output::VisibilityFromCost) {
-  const auto opts = fmt::format("-DBINS={} -DSUBSAMPLE={}", params.bins_per_channel,
-                                params.wide.subsample);
+  const auto opts =
+      fmt::format("-DBINS={} -DSUBSAMPLE={}", params.bins_per_channel, params.wide.subsample);
   auto k = [&](const char* name) { return ctx.kernel("cvf", cl_source::cvf, opts, name); };
   histogram_ = k("cvf_histogram");
   cost_pack_ = k("cvf_cost_pack");
@@ -73,8 +73,8 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
 
   // 3. Costs, packed with the guide at the wide filter's resolution (thesis 3.3.3).
   set_args(cost_pack_, in.color->buffer(), in.real_depth_mm->buffer(),
-           in.virtual_depth_mm->buffer(), categories, hist_, std::max(1, params_.min_samples), w,
-           h, wl, hl, wide_in_.buffer());
+           in.virtual_depth_mm->buffer(), categories, hist_, std::max(1, params_.min_samples), w, h,
+           wl, hl, wide_in_.buffer());
   run_pixels(ctx_, cost_pack_, wl, hl);
 
   // 4. Wide guided filter on the costs, threshold on undecided pixels (thesis 3.3.4).

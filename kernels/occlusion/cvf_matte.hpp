@@ -19,7 +19,7 @@ struct CvfDeviceTrace {
   CategoryImage categories;
   ImageGray8 band;  // 1 inside the band (not 255)
   ColourModels models;
-  Image<float, 4> wide_input;    // (r, g, b, cost) at the wide filter's resolution
+  Image<float, 4> wide_input;     // (r, g, b, cost) at the wide filter's resolution
   Image<float, 4> feather_input;  // (r, g, b, mask) at full resolution
 };
 

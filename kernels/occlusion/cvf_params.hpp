@@ -37,13 +37,13 @@ struct GuidedFilterParams {
 
 struct CvfParams {
   CategoriseParams categorise;
-  int band_px = 10;           // colour samples come from this close to the process region
-  int min_samples = 40;       // per class, else the depth test decides (thesis 3.3.2)
-  int bins_per_channel = 4;   // joint RGB histogram: 4^3 = 64 bins (author's code)
+  int band_px = 10;          // colour samples come from this close to the process region
+  int min_samples = 40;      // per class, else the depth test decides (thesis 3.3.2)
+  int bins_per_channel = 4;  // joint RGB histogram: 4^3 = 64 bins (author's code)
   // Cost filter (author's r and eps); computed at half resolution by default (He & Sun's fast
   // guided filter: 1.5x faster on PoCL, MSE within 0.4 % of the exact one, docs/occlusion.md).
   GuidedFilterParams wide{6, 0.0025F, 2};
-  GuidedFilterParams feather{1, 0.3F, 1};   // after the threshold (author's code)
+  GuidedFilterParams feather{1, 0.3F, 1};  // after the threshold (author's code)
 };
 
 // Costs (probability that the real surface hides the object), thesis 3.3.3.

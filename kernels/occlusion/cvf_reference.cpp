@@ -11,10 +11,14 @@ namespace probeless::occlusion {
 float cvf_cost(Category c, int bin, const ColourModels& models, bool models_valid,
                std::uint16_t real_mm, float virtual_mm) {
   switch (c) {
-    case Category::Infront: return kCostInfront;
-    case Category::Behind: return kCostBehind;
-    case Category::Ignore: return kCostIgnore;
-    case Category::Process: break;
+    case Category::Infront:
+      return kCostInfront;
+    case Category::Behind:
+      return kCostBehind;
+    case Category::Ignore:
+      return kCostIgnore;
+    case Category::Process:
+      break;
   }
   if (!models_valid) {
     if (real_mm == 0) return 0.5F;
@@ -38,8 +42,8 @@ ImageF visibility_from_cost(const ImageF& filtered_cost, const ImageF& virtual_d
 CvfTrace cvf_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
                        const ImageF& virtual_depth_mm, const CvfParams& params) {
   const int w = color.width(), h = color.height();
-  if (real_depth_mm.width() != w || real_depth_mm.height() != h ||
-      virtual_depth_mm.width() != w || virtual_depth_mm.height() != h)
+  if (real_depth_mm.width() != w || real_depth_mm.height() != h || virtual_depth_mm.width() != w ||
+      virtual_depth_mm.height() != h)
     throw std::invalid_argument("cvf_reference: colour and depth sizes differ");
   CvfTrace t;
   t.categories = categorise_reference(real_depth_mm, virtual_depth_mm, params.categorise);
@@ -54,9 +58,9 @@ CvfTrace cvf_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
     for (int x = 0; x < w; ++x) {
       const int bin = colour_bin(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2),
                                  params.bins_per_channel);
-      t.cost.at(x, y) = cvf_cost(static_cast<Category>(t.categories.at(x, y)), bin, t.models,
-                                 t.colour_models_valid, real_depth_mm.at(x, y),
-                                 virtual_depth_mm.at(x, y));
+      t.cost.at(x, y) =
+          cvf_cost(static_cast<Category>(t.categories.at(x, y)), bin, t.models,
+                   t.colour_models_valid, real_depth_mm.at(x, y), virtual_depth_mm.at(x, y));
     }
 
   const auto guide = guide_from_rgb8(color);
@@ -67,8 +71,8 @@ CvfTrace cvf_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
       const auto c = static_cast<Category>(t.categories.at(x, y));
       // Known pixels keep their cost; process and off-object pixels take the thresholded
       // filter output, so the object's own outline does not read as an occlusion edge.
-      t.mask.at(x, y) = c == Category::Infront  ? 1.0F
-                        : c == Category::Behind ? 0.0F
+      t.mask.at(x, y) = c == Category::Infront   ? 1.0F
+                        : c == Category::Behind  ? 0.0F
                         : t.wide.at(x, y) > 0.5F ? 1.0F
                                                  : 0.0F;
     }

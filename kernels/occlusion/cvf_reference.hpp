@@ -12,11 +12,11 @@ struct CvfTrace {
   ImageGray8 band;
   ColourModels models;
   bool colour_models_valid = false;  // both classes had >= min_samples pixels in the band
-  ImageF cost;     // probability that the real surface hides the object
-  ImageF wide;     // cost after the wide guided filter
-  ImageF mask;     // 1 = hidden: infront 1, behind 0, else wide > 0.5
-  ImageF feather;  // mask after the narrow guided filter
-  ImageF alpha;    // visibility of the virtual object, 0 off it
+  ImageF cost;                       // probability that the real surface hides the object
+  ImageF wide;                       // cost after the wide guided filter
+  ImageF mask;                       // 1 = hidden: infront 1, behind 0, else wide > 0.5
+  ImageF feather;                    // mask after the narrow guided filter
+  ImageF alpha;                      // visibility of the virtual object, 0 off it
 };
 
 // Cost of one pixel (thesis 3.3.3). With valid colour models a process pixel costs

@@ -15,14 +15,25 @@
 #define TAPS (2 * RADIUS + 1)
 
 // Pixels of the clipped window along one axis.
-inline int window_count(int x, int n) { return min(n - 1, x + RADIUS) - max(0, x - RADIUS) + 1; }
+inline int window_count(int x, int n) {
+  return min(n - 1, x + RADIUS) - max(0, x - RADIUS) + 1;
+}
 
 // The 13 moments of a guide pixel (r, g, b) and input p: I, p, I p, upper triangle of I I^T.
-#define MOMENTS(v, m)                                                                      \
-  m[0] = v.x; m[1] = v.y; m[2] = v.z; m[3] = v.w;                                          \
-  m[4] = v.x * v.w; m[5] = v.y * v.w; m[6] = v.z * v.w;                                    \
-  m[7] = v.x * v.x; m[8] = v.x * v.y; m[9] = v.x * v.z;                                    \
-  m[10] = v.y * v.y; m[11] = v.y * v.z; m[12] = v.z * v.z;
+#define MOMENTS(v, m) \
+  m[0] = v.x;         \
+  m[1] = v.y;         \
+  m[2] = v.z;         \
+  m[3] = v.w;         \
+  m[4] = v.x * v.w;   \
+  m[5] = v.y * v.w;   \
+  m[6] = v.z * v.w;   \
+  m[7] = v.x * v.x;   \
+  m[8] = v.x * v.y;   \
+  m[9] = v.x * v.z;   \
+  m[10] = v.y * v.y;  \
+  m[11] = v.y * v.z;  \
+  m[12] = v.z * v.z;
 
 // Loads the tile of `src` (rgb + p, or a + b) with its halo; zero outside the image.
 inline void load_tile(__global const float4* src, __local float4* tile, int w, int h) {
@@ -51,9 +62,8 @@ inline float4 solve_coefficients(const float* s, float eps) {
 }
 
 // guide_p: rgb in [0,1] and the input p in .w. Writes (a_r, a_g, a_b, b) per pixel.
-__kernel __attribute__((reqd_work_group_size(TILE_W, 1, 1)))
-void gf_coefficients(__global const float4* guide_p, __global float4* ab, int w, int h,
-                     float eps) {
+__kernel __attribute__((reqd_work_group_size(TILE_W, 1, 1))) void gf_coefficients(
+    __global const float4* guide_p, __global float4* ab, int w, int h, float eps) {
   __local float4 tile[HALO_W * HALO_H];
   __local float hsum[13 * HALO_H * TILE_W];
   load_tile(guide_p, tile, w, h);
@@ -100,10 +110,9 @@ void gf_coefficients(__global const float4* guide_p, __global float4* ab, int w,
 }
 
 // Window means of (a, b); then, by OUTPUT_MODE, stores them or applies them to the guide.
-__kernel __attribute__((reqd_work_group_size(TILE_W, 1, 1)))
-void gf_mean_apply(__global const float4* ab, int w, int h, __global float4* mean_ab,
-                   __global const float4* guide_p, __global const float* virtual_mm,
-                   __global float* alpha) {
+__kernel __attribute__((reqd_work_group_size(TILE_W, 1, 1))) void gf_mean_apply(
+    __global const float4* ab, int w, int h, __global float4* mean_ab,
+    __global const float4* guide_p, __global const float* virtual_mm, __global float* alpha) {
   __local float4 tile[HALO_W * HALO_H];
   __local float4 hsum[HALO_H * TILE_W];
   load_tile(ab, tile, w, h);

@@ -7,7 +7,9 @@
 namespace probeless::occlusion {
 namespace {
 
-std::size_t idx(int x, int y, int w) { return static_cast<std::size_t>(y) * w + x; }
+std::size_t idx(int x, int y, int w) {
+  return static_cast<std::size_t>(y) * w + x;
+}
 
 // Solves (Sigma + eps U) a = cov for the symmetric 3x3 Sigma = [s0 s1 s2; s1 s3 s4; s2 s4 s5].
 void solve_sym3(const double s[6], double eps, const double cov[3], double a[3]) {
@@ -27,8 +29,9 @@ void solve_sym3(const double s[6], double eps, const double cov[3], double a[3])
 }
 
 // a (3 planes) and b (1 plane) of the filter at one resolution; returns their window means.
-std::vector<double> mean_coefficients(const std::vector<double>& guide3, const std::vector<double>& p,
-                                      int w, int h, int r, double eps) {
+std::vector<double> mean_coefficients(const std::vector<double>& guide3,
+                                      const std::vector<double>& p, int w, int h, int r,
+                                      double eps) {
   const std::size_t n = static_cast<std::size_t>(w) * h;
   // Moments: I (3), p, I*p (3), I I^T (6) = 13 planes.
   std::vector<double> m(13 * n);

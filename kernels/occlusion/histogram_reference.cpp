@@ -16,8 +16,8 @@ ColourModels colour_histograms_reference(const ImageRGB8& color, const CategoryI
                                          const ImageGray8& band, int bins_per_channel) {
   if (bins_per_channel < 1 || bins_per_channel > 16)
     throw std::invalid_argument("colour histograms: bins per channel must be 1..16");
-  const std::size_t bins = static_cast<std::size_t>(bins_per_channel) * bins_per_channel *
-                           bins_per_channel;
+  const std::size_t bins =
+      static_cast<std::size_t>(bins_per_channel) * bins_per_channel * bins_per_channel;
   ColourModels m{bins_per_channel, std::vector<std::uint32_t>(bins, 0),
                  std::vector<std::uint32_t>(bins, 0)};
   for (int y = 0; y < color.height(); ++y)

@@ -2,9 +2,8 @@
 // valid depth around the pixel; blend of the visibilities of min and max by smoothstep where
 // they differ, else the visibility of the mean.
 __kernel void meta_soft_matte(__global const ushort* real_mm, __global const float* virtual_mm,
-                              int w, int h, int radius, float relative_range,
-                              float blend_threshold, float fg_level, float bg_level,
-                              __global float* alpha) {
+                              int w, int h, int radius, float relative_range, float blend_threshold,
+                              float fg_level, float bg_level, __global float* alpha) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= w || y >= h) return;
   const int i = y * w + x;

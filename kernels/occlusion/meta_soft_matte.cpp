@@ -15,9 +15,9 @@ void MetaSoftMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& al
   const int w = in.width(), h = in.height();
   alpha.resize(ctx_.context(), w, h);
   if (alpha.empty()) return;
-  set_args(kernel_, in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), w, h,
-           params_.radius, params_.relative_range, params_.blend_threshold,
-           params_.foreground_level, params_.background_level, alpha.buffer());
+  set_args(kernel_, in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), w, h, params_.radius,
+           params_.relative_range, params_.blend_threshold, params_.foreground_level,
+           params_.background_level, alpha.buffer());
   run_pixels(ctx_, kernel_, w, h);
 }
 

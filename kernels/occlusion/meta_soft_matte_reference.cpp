@@ -34,9 +34,9 @@ ImageF meta_soft_matte_reference(const DepthImage& real_depth_mm, const ImageF& 
       const float vlo = vis(lo), vhi = vis(hi);
       if (vhi - vlo > params.blend_threshold) {
         const float t = (mean - lo) / (hi - lo);
-        const float s = std::clamp((t - params.foreground_level) /
-                                       (params.background_level - params.foreground_level),
-                                   0.0F, 1.0F);
+        const float s = std::clamp(
+            (t - params.foreground_level) / (params.background_level - params.foreground_level),
+            0.0F, 1.0F);
         const float k = s * s * (3.0F - 2.0F * s);
         a = vlo + (vhi - vlo) * k;
       }

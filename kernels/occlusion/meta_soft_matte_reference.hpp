@@ -10,8 +10,8 @@
 namespace probeless::occlusion {
 
 struct MetaSoftParams {
-  int radius = 2;                   // 5x5 neighbourhood
-  float relative_range = 0.04F;     // Meta: kRange = 1 / 1.04 - 1
+  int radius = 2;                // 5x5 neighbourhood
+  float relative_range = 0.04F;  // Meta: kRange = 1 / 1.04 - 1
   float blend_threshold = 0.03F;
   float foreground_level = 0.2F;
   float background_level = 0.8F;

@@ -1,8 +1,7 @@
 // ARCore-style soft occlusion (soft_ramp_matte_reference.cpp): 5x5 mean of the valid depth,
 // then a linear ramp over +-half_width of the virtual depth.
 __kernel void soft_ramp_matte(__global const ushort* real_mm, __global const float* virtual_mm,
-                              int w, int h, int radius, float half_width,
-                              __global float* alpha) {
+                              int w, int h, int radius, float half_width, __global float* alpha) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= w || y >= h) return;
   const int i = y * w + x;
@@ -21,6 +20,6 @@ __kernel void soft_ramp_matte(__global const ushort* real_mm, __global const flo
         ++n;
       }
     }
-  alpha[i] = n == 0 ? 1.0f
-                    : clamp((sum / (float)n - v) / (2.0f * half_width * v) + 0.5f, 0.0f, 1.0f);
+  alpha[i] =
+      n == 0 ? 1.0f : clamp((sum / (float)n - v) / (2.0f * half_width * v) + 0.5f, 0.0f, 1.0f);
 }

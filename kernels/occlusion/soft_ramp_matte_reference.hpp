@@ -8,7 +8,7 @@
 namespace probeless::occlusion {
 
 struct SoftRampParams {
-  int smoothing_radius = 2;         // 5x5
+  int smoothing_radius = 2;           // 5x5
   float relative_half_width = 0.01F;  // +-1 % of the virtual depth
 };
 

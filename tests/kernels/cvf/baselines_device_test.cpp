@@ -42,7 +42,6 @@ Scene random_scene(int w, int h, std::uint32_t seed) {
   return s;
 }
 
-
 template <typename Reference>
 void expect_matches(OcclusionMethod& method, Reference&& reference, double tolerance) {
   const int sizes[][2] = {{1, 1}, {33, 17}, {64, 48}, {101, 37}};
@@ -64,8 +63,8 @@ void expect_matches(OcclusionMethod& method, Reference&& reference, double toler
 
 TEST(BaselinesDevice, Guided) {
   GuidedMatte m(context());
-  expect_matches(m, [](const Scene& s) { return guided_matte_reference(s.color, s.depth, s.virt); },
-                 2e-4);
+  expect_matches(
+      m, [](const Scene& s) { return guided_matte_reference(s.color, s.depth, s.virt); }, 2e-4);
 }
 
 TEST(BaselinesDevice, Bilateral) {
@@ -76,19 +75,20 @@ TEST(BaselinesDevice, Bilateral) {
 
 TEST(BaselinesDevice, Crabb) {
   CrabbMatte m(context());
-  expect_matches(m, [](const Scene& s) { return crabb_matte_reference(s.depth, s.virt); }, 0.0);
+  expect_matches(
+      m, [](const Scene& s) { return crabb_matte_reference(s.depth, s.virt); }, 0.0);
 }
 
 TEST(BaselinesDevice, SoftRamp) {
   SoftRampMatte m(context());
-  expect_matches(m, [](const Scene& s) { return soft_ramp_matte_reference(s.depth, s.virt); },
-                 1e-4);
+  expect_matches(
+      m, [](const Scene& s) { return soft_ramp_matte_reference(s.depth, s.virt); }, 1e-4);
 }
 
 TEST(BaselinesDevice, MetaSoft) {
   MetaSoftMatte m(context());
-  expect_matches(m, [](const Scene& s) { return meta_soft_matte_reference(s.depth, s.virt); },
-                 1e-4);
+  expect_matches(
+      m, [](const Scene& s) { return meta_soft_matte_reference(s.depth, s.virt); }, 1e-4);
 }
 
 }  // namespace

@@ -70,7 +70,8 @@ TEST(GuidedFilterDevice, MatchesReferenceOnRandomSizes) {
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
           for (int c = 0; c < 3; ++c)
-            guide.at(x, y, c) = packed.at(x, y, c) = ((x / 4 + y / 3 + c) % 3) * 0.3F + 0.1F * u(rng);
+            guide.at(x, y, c) = packed.at(x, y, c) =
+                ((x / 4 + y / 3 + c) % 3) * 0.3F + 0.1F * u(rng);
           p.at(x, y) = packed.at(x, y, 3) = u(rng) < 0.5F ? 0.0F : 1.0F;
         }
       GuidedFilter gf(context(), cs.r, cs.eps, GuidedFilter::Output::Raw);

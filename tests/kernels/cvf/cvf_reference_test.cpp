@@ -1,13 +1,14 @@
 // The CPU references of CVF against first principles: the guided filter against brute-force
 // window sums in double precision, the categories, band, histograms and costs on hand-made
 // inputs with known answers, and the whole method on a scene where colour decides.
+#include "kernels/occlusion/cvf_reference.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
 #include "kernels/occlusion/categorise_reference.hpp"
-#include "kernels/occlusion/cvf_reference.hpp"
 #include "kernels/occlusion/guided_filter_reference.hpp"
 
 namespace probeless::occlusion {
@@ -68,8 +69,8 @@ ImageF brute_force_guided(const ImageRGBF& I, const ImageF& p, int r, double eps
         n += 1;
         for (int k = 0; k < 4; ++k) m[k] += a[(static_cast<std::size_t>(j) * w + i) * 4 + k];
       });
-      q.at(x, y) = static_cast<float>((m[0] * I.at(x, y, 0) + m[1] * I.at(x, y, 1) +
-                                       m[2] * I.at(x, y, 2) + m[3]) / n);
+      q.at(x, y) = static_cast<float>(
+          (m[0] * I.at(x, y, 0) + m[1] * I.at(x, y, 1) + m[2] * I.at(x, y, 2) + m[3]) / n);
     }
   return q;
 }
@@ -80,8 +81,7 @@ ImageRGBF random_guide(int w, int h, std::mt19937& rng) {
   // Piecewise-constant regions plus noise, so windows see both edges and flat areas.
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      for (int c = 0; c < 3; ++c)
-        g.at(x, y, c) = ((x / 5 + y / 7 + c) % 3) * 0.3F + 0.1F * u(rng);
+      for (int c = 0; c < 3; ++c) g.at(x, y, c) = ((x / 5 + y / 7 + c) % 3) * 0.3F + 0.1F * u(rng);
   return g;
 }
 

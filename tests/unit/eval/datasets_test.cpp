@@ -16,7 +16,9 @@ namespace probeless::eval {
 namespace {
 namespace fs = std::filesystem;
 
-void write_text(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+void write_text(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
 
 // Expects an ImageFileError whose message names `file`.
 template <typename F>
@@ -100,8 +102,8 @@ TEST(Middlebury, BothLayoutsGiveMetricDepth) {
   const auto scenes = find_middlebury_scenes(root);
   ASSERT_EQ(scenes.size(), 2U);
   const auto s14 = load_middlebury_scene(root / "2014q/Box");
-  EXPECT_EQ(s14.depth_mm.at(0, 0), 0);                      // inf: unknown
-  EXPECT_EQ(s14.depth_mm.at(0, 31), 1000);                  // 100 * 500 / (40 + 10)
+  EXPECT_EQ(s14.depth_mm.at(0, 0), 0);      // inf: unknown
+  EXPECT_EQ(s14.depth_mm.at(0, 31), 1000);  // 100 * 500 / (40 + 10)
   EXPECT_EQ(s14.depth_mm.at(47, 0), std::lround(100.0 * 500 / 30));
   EXPECT_DOUBLE_EQ(s14.focal_px, 500);
   const auto sv2 = load_middlebury_scene(root / "v2/box");
@@ -112,8 +114,8 @@ TEST(Middlebury, BothLayoutsGiveMetricDepth) {
 
   // Malformed: missing calib value, bad info.txt, missing file.
   write_text(root / "2014q/Box/calib.txt", "cam0=[ 500 0 24 ]\n");
-  expect_file_error([&] { load_middlebury_scene(root / "2014q/Box"); }, root / "2014q/Box/calib.txt",
-                    "doffs");
+  expect_file_error([&] { load_middlebury_scene(root / "2014q/Box"); },
+                    root / "2014q/Box/calib.txt", "doffs");
   write_text(root / "v2/box/info.txt", "scale\n");
   expect_file_error([&] { load_middlebury_scene(root / "v2/box"); }, root / "v2/box/info.txt");
   fs::remove(root / "v2/box/imL.png");
@@ -180,8 +182,8 @@ TEST(EvalOcclusion, SmallMiddleburyCropEndToEnd) {
   opts.crop_width = 96;
   opts.crop_height = 64;
   opts.plots_dir = testing::scratch_dir() / "plots";
-  const auto cases =
-      load_cases("middlebury:" + (testing::shared_data_dir() / "middlebury/v2/venus").string(), opts);
+  const auto cases = load_cases(
+      "middlebury:" + (testing::shared_data_dir() / "middlebury/v2/venus").string(), opts);
   ASSERT_EQ(cases.size(), 2U);
   ComputeContext ctx;
   const auto report = evaluate(ctx, cases, opts);

@@ -1,7 +1,7 @@
 // The evaluator's metrics on hand-made mattes with known answers.
-#include <gtest/gtest.h>
-
 #include "app/eval/matte_metrics.hpp"
+
+#include <gtest/gtest.h>
 
 namespace probeless::eval {
 namespace {
@@ -25,7 +25,8 @@ TEST(MatteMetrics, SilhouetteBandIsTheNeighbourhoodOfTrueEdges) {
   for (int y = 0; y < 5; ++y)
     for (int x = 0; x < 15; ++x) truth.at(x, y) = 1.0F;
   const auto band = silhouette_band(truth, mask, 3);
-  for (int x = 0; x < 30; ++x) EXPECT_EQ(band.at(x, 2) != 0, x >= 11 && x <= 18) << x;  // edges at x = 14 and 15
+  for (int x = 0; x < 30; ++x)
+    EXPECT_EQ(band.at(x, 2) != 0, x >= 11 && x <= 18) << x;  // edges at x = 14 and 15
   // The object's own outline (mask edge) is no silhouette.
   ImageF flat(10, 10, 1.0F);
   ImageGray8 m2(10, 10);
