@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <map>
 
@@ -37,8 +38,7 @@ const std::map<char, std::array<std::uint8_t, 7>>& font() {
       {'Y', {17, 17, 17, 10, 4, 4, 4}},    {'Z', {31, 1, 2, 4, 8, 16, 31}},
       {'.', {0, 0, 0, 0, 0, 12, 12}},      {'-', {0, 0, 0, 31, 0, 0, 0}},
       {'_', {0, 0, 0, 0, 0, 0, 31}},       {'/', {1, 1, 2, 4, 8, 16, 16}},
-      {'e', {0, 0, 14, 17, 31, 16, 14}},   {' ', {0, 0, 0, 0, 0, 0, 0}},
-      {'x', {0, 0, 17, 10, 4, 10, 17}},    {'(', {2, 4, 8, 8, 8, 4, 2}},
+      {' ', {0, 0, 0, 0, 0, 0, 0}},        {'(', {2, 4, 8, 8, 8, 4, 2}},
       {')', {8, 4, 2, 2, 2, 4, 8}},        {'+', {0, 4, 4, 31, 4, 4, 0}}};
   return f;
 }
@@ -51,11 +51,10 @@ void fill(ImageRGB8& img, int x0, int y0, int x1, int y1, Rgb c) {
       for (int k = 0; k < 3; ++k) img.at(x, y, k) = c[k];
 }
 
-// Text in the 5x7 font, 6 px per character; letters outside the font print as upper case.
+// Text in the 5x7 font (upper case only), 6 px per character.
 void text(ImageRGB8& img, int x, int y, const std::string& s, Rgb c) {
   for (char ch : s) {
-    auto it = font().find(ch);
-    if (it == font().end()) it = font().find(static_cast<char>(std::toupper(ch)));
+    const auto it = font().find(static_cast<char>(std::toupper(static_cast<unsigned char>(ch))));
     if (it != font().end())
       for (int r = 0; r < 7; ++r)
         for (int b = 0; b < 5; ++b)
@@ -97,8 +96,10 @@ void bar_plot(const fs::path& path, const std::string& title, const EvalReport& 
         fill(img, x0 + int(m) * bar, top + plot_h - bh, x0 + int(m + 1) * bar - 1, top + plot_h,
              kPalette[m % 8]);
       }
-    const auto label = name.size() > std::size_t(group / 6) ? name.substr(0, group / 6) : name;
-    text(img, x0, top + plot_h + 6, label, {0, 0, 0});
+    // Names alternate between two rows so that long ones do not run into each other.
+    const auto room = static_cast<std::size_t>(2 * group / 6 - 1);
+    const auto label = name.size() > room ? name.substr(0, room) : name;
+    text(img, x0, top + plot_h + 6 + (g % 2) * 10, label, {0, 0, 0});
   };
   for (std::size_t g = 0; g < r.scenes.size(); ++g)
     draw_group(int(g), r.scenes[g].name, r.scenes[g].methods);
