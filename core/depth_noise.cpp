@@ -1,5 +1,6 @@
 #include "core/depth_noise.hpp"
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -162,10 +163,13 @@ DepthImage apply_kinect_noise(const DepthImage& clean, double focal_px, std::uin
   // Clean disparity (0 = invalid) for the window means: simkinect averages the shifted,
   // quantised map, whose window mean differs from the clean one by far less than the rule's
   // tolerance.
+  const auto fb_mm = static_cast<float>(fb * 1000.0);
+  const auto min_mm_f = static_cast<float>(min_mm), max_mm_f = static_cast<float>(max_mm);
+  const auto n_pixels = static_cast<Eigen::Index>(clean.pixel_count());
   std::vector<float> disparity(clean.pixel_count());
   for (std::size_t i = 0; i < disparity.size(); ++i) {
-    const double z = clean.data()[i];
-    disparity[i] = (z >= min_mm && z <= max_mm) ? static_cast<float>(fb * 1000.0 / z) : 0.0f;
+    const float z = clean.data()[i];
+    disparity[i] = (z >= min_mm_f && z <= max_mm_f) ? fb_mm / z : 0.0f;
   }
 
   // Per dot: the shifted, quantised disparity the window rule compares, and the noisy one it
@@ -215,14 +219,14 @@ DepthImage apply_kinect_noise(const DepthImage& clean, double focal_px, std::uin
   // (weight 1 / (1 + r^2); earlier dots win ties, as in simkinect's scan). Window sums come
   // from per-column sums over the window's rows, slid down the image row by row.
   const int fr = p.fill_radius_px;
-  struct FillOffset {
-    int dx, dy;
-    float weight;
-  };
-  std::vector<FillOffset> fill;
-  for (int oy = -fr; oy <= fr; ++oy)
-    for (int ox = -fr; ox <= fr; ++ox)
-      if (ox * ox + oy * oy <= fr * fr) fill.push_back({ox, oy, 1.0f / (1.0f + ox * ox + oy * oy)});
+  const int fill_side = 2 * fr + 1;
+  std::vector<int> fill_run(fill_side);  // half-width of the disc on each row
+  std::vector<float> fill_weights(static_cast<std::size_t>(fill_side) * fill_side);  // [dy][dx]
+  for (int dy = -fr; dy <= fr; ++dy) {
+    fill_run[dy + fr] = static_cast<int>(std::sqrt(static_cast<double>(fr * fr - dy * dy)) + 1e-9);
+    for (int dx = -fr; dx <= fr; ++dx)
+      fill_weights[static_cast<std::size_t>(dy + fr) * fill_side + dx + fr] = 1.0f / (1.0f + dx * dx + dy * dy);
+  }
   // A dot r px from the centre is an inlier within window_inlier_px * 1.44 r^2 of the mean.
   std::vector<double> tolerance(2 * half * half + 1);
   for (std::size_t r2 = 0; r2 < tolerance.size(); ++r2)
@@ -268,24 +272,28 @@ DepthImage apply_kinect_noise(const DepthImage& clean, double focal_px, std::uin
     }
     const double needed = (dots.first[s + 1] - dots.first[s]) / p.window_valid_ratio;
     if (!(n_valid > needed && n_inliers > needed)) continue;
-    const bool inside = x >= fr && y >= fr && x + fr < w && y + fr < h;
     const float value = out_d[k];
-    for (const FillOffset& o : fill) {
-      const int px = x + o.dx, py = y + o.dy;
-      if (!inside && (px < 0 || py < 0 || px >= w || py >= h)) continue;
-      const std::size_t i = static_cast<std::size_t>(py) * w + px;
-      const float old = fill_weight[i];
-      const bool take = old < o.weight;
-      fill_weight[i] = take ? o.weight : old;
-      result[i] = take ? value : result[i];
+    for (int dy = -fr; dy <= fr; ++dy) {
+      const int py = y + dy;
+      if (py < 0 || py >= h) continue;
+      const int run = fill_run[dy + fr];
+      const int x0 = std::max(x - run, 0), x1 = std::min(x + run, w - 1);
+      float* weight_row = fill_weight.data() + static_cast<std::size_t>(py) * w;
+      float* result_row = result.data() + static_cast<std::size_t>(py) * w;
+      const float* weights = fill_weights.data() + static_cast<std::size_t>(dy + fr) * fill_side;
+      for (int px = x0; px <= x1; ++px) {
+        const float weight = weights[px - x + fr];
+        const bool take = weight_row[px] < weight;
+        weight_row[px] = take ? weight : weight_row[px];
+        result_row[px] = take ? value : result_row[px];
+      }
     }
   }
 
-  for (std::size_t i = 0; i < result.size(); ++i) {
-    if (std::isnan(result[i])) continue;
-    const double z_mm = round_positive(fb * 1000.0 / result[i]);
-    out.data()[i] = static_cast<std::uint16_t>(std::min(z_mm, 65535.0));
-  }
+  // NaN (no measurement) compares false.
+  const Eigen::Map<const Eigen::ArrayXf> d_out(result.data(), n_pixels);
+  Eigen::Map<Eigen::Array<std::uint16_t, Eigen::Dynamic, 1>>(out.data(), n_pixels) =
+      (d_out > 0.0f).select(fb_mm / d_out + 0.5f, 0.0f).min(65535.0f).cast<int>().cast<std::uint16_t>();
   return out;
 }
 

@@ -92,25 +92,22 @@ void SimFisheyeSource::render_frame(std::int64_t index, const ExposureStamp& exp
   const auto black = static_cast<float>(m.black), white = static_cast<float>(m.white);
 
   const int w = renderer_.width(), h = renderer_.height();
-  frame.raw = ImageRGB16(w, h);
+  if (frame.raw.width() != w || frame.raw.height() != h) frame.raw = ImageRGB16(w, h);
   const ImageRGBF& rad = renderer_.radiance();
-  const std::uint64_t frame_seed =
-      hash_combine(hash_combine(world_->seed(), 0xf15e7e), static_cast<std::uint64_t>(index));
+  const auto key = static_cast<std::uint32_t>(
+      hash_combine(hash_combine(world_->seed(), 0xf15e7e), static_cast<std::uint64_t>(index)));
   constexpr int kRowsPerTask = 32;
   pool_.parallel_for((h + kRowsPerTask - 1) / kRowsPerTask, [&](int task) {
+    const int n = 3 * w;
+    Eigen::ArrayXf noise(n), signal(n);
     const int y1 = std::min(h, (task + 1) * kRowsPerTask);
     for (int y = task * kRowsPerTask; y < y1; ++y) {
-      const float* in = rad.row(y);
+      // Row passes that vectorise (see the RGB-D colour conversion).
+      fill_unit_noise(noise.data(), n, key, static_cast<std::uint32_t>(y) * n);
+      signal = Eigen::Map<const Eigen::ArrayXf>(rad.row(y), n) * to_dn;
+      signal = (black + signal + (shot * signal + read_var).sqrt() * noise + 0.5f).max(0.0f).min(white);
       std::uint16_t* out = frame.raw.row(y);
-      for (int x = 0; x < w; ++x) {
-        const std::uint64_t bits = mix64(frame_seed ^ (static_cast<std::uint64_t>(y) * w + x));
-        for (int c = 0; c < 3; ++c) {
-          const float signal = in[3 * x + c] * to_dn;
-          const float v = black + signal +
-                          std::sqrt(shot * signal + read_var) * unit_noise(bits >> (21 * c));
-          out[3 * x + c] = static_cast<std::uint16_t>(std::clamp(v + 0.5f, 0.0f, white));
-        }
-      }
+      for (int i = 0; i < n; ++i) out[i] = static_cast<std::uint16_t>(static_cast<std::int32_t>(signal[i]));
     }
   });
 

@@ -20,12 +20,29 @@ inline float uniform01(std::uint64_t bits) {
   return static_cast<float>(bits >> 40) * (1.0f / 16777216.0f);
 }
 
-// Sensor noise deviates with zero mean and unit variance from 20 random bits: the sum of
-// two 10-bit uniforms (triangular), scaled. Cheap enough for every pixel of every frame; the
-// camera noise models promise mean and variance, not shape (docs/sim.md).
-inline float unit_noise(std::uint64_t bits20) {
-  const auto a = static_cast<float>(bits20 & 1023u), b = static_cast<float>((bits20 >> 10) & 1023u);
+// A 32-bit bijection with good avalanche (C. Wellons' "lowbias32"): cheap enough per pixel
+// and channel, and it vectorises.
+inline std::uint32_t hash32(std::uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+// Sensor noise with zero mean and unit variance from 20 random bits: the sum of two 10-bit
+// uniforms (triangular), scaled. The camera noise models promise mean and variance, not
+// shape (docs/sim.md).
+inline float unit_noise(std::uint32_t bits) {
+  const auto a = static_cast<float>(static_cast<std::int32_t>(bits & 1023u));
+  const auto b = static_cast<float>(static_cast<std::int32_t>((bits >> 10) & 1023u));
   return ((a + b + 1.0f) * (1.0f / 1024.0f) - 1.0f) * 2.449489743f;
+}
+
+// noise[i] for i in [0, n): the deviates of stream `key` at counters first + i.
+inline void fill_unit_noise(float* noise, int n, std::uint32_t key, std::uint32_t first) {
+  for (int i = 0; i < n; ++i) noise[i] = unit_noise(hash32((first + static_cast<std::uint32_t>(i)) ^ key));
 }
 
 }  // namespace probeless::sim

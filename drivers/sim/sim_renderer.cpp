@@ -9,8 +9,10 @@ namespace probeless::sim {
 namespace {
 
 struct Bound {
-  Eigen::Vector3f centre;
+  Eigen::Vector3f centre;  // camera frame
   float radius;
+  std::array<float, 4> rect;  // pixels: x0, y0, x1, y1
+  bool has_rect;
 };
 
 // The cone of a tile (camera frame) meets the sphere seen from the camera centre.
@@ -94,28 +96,52 @@ void SimRenderer::render(const Pose& T_world_camera, int lamp_state, const Occlu
                          T_world_camera.translation == last_pose_.translation &&
                          T_world_camera.rotation.coeffs() == last_pose_.rotation.coeffs();
 
-  // Bounding spheres in the camera frame (camera centre at the origin, camera axes).
+  // Per primitive, a bound to cull tiles with: for the pinhole the screen rectangle of its
+  // bounding box's corners (tight for the thin table top and long sofa, and conservative as
+  // long as every corner is in front), else a sphere against the tile's cone of rays.
   const SimWorld& w = *world_;
-  std::vector<std::pair<PrimRef, Bound>> bounds;
   const Eigen::Matrix3f to_camera = rotation.transpose();
+  std::vector<std::pair<PrimRef, Bound>> bounds;
+  const auto add = [&](PrimRef ref, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
+                       const Eigen::Vector3f& centre, float radius) {
+    Bound b{to_camera * (centre - origin), radius, {}, false};
+    if (table_.empty()) {
+      float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+      bool in_front = true;
+      for (int c = 0; c < 8 && in_front; ++c) {
+        const Eigen::Vector3f corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(),
+                                     (c & 4) ? hi.z() : lo.z());
+        const Eigen::Vector3f q = to_camera * (corner - origin);
+        in_front = q.z() > 1e-3f;
+        const float u = static_cast<float>(fx_) * q.x() / q.z() + static_cast<float>(cx_);
+        const float v = static_cast<float>(fy_) * q.y() / q.z() + static_cast<float>(cy_);
+        x0 = std::min(x0, u);
+        x1 = std::max(x1, u);
+        y0 = std::min(y0, v);
+        y1 = std::max(y1, v);
+      }
+      b.has_rect = in_front;
+      b.rect = {x0 - 1, y0 - 1, x1 + 1, y1 + 1};
+    }
+    bounds.push_back({ref, b});
+  };
   for (const PrimRef& p : w.static_prims()) {
-    Bound b{};
     if (p.kind == PrimRef::Kind::Box) {
       const Box& box = w.boxes()[p.index];
-      b = {0.5f * (box.lo + box.hi), 0.5f * (box.hi - box.lo).norm()};
+      add(p, box.lo, box.hi, 0.5f * (box.lo + box.hi), 0.5f * (box.hi - box.lo).norm());
     } else {
       const Sphere& s = w.spheres()[p.index];
-      b = {s.centre, s.radius};
+      const Eigen::Vector3f r = Eigen::Vector3f::Constant(s.radius);
+      add(p, s.centre - r, s.centre + r, s.centre, s.radius);
     }
-    bounds.push_back({p, {to_camera * (b.centre - origin), b.radius}});
   }
   const std::size_t n_static = bounds.size();
   if (occluder) {
     for (std::size_t i = 0; i < occluder->capsules.size(); ++i) {
       const Capsule& c = occluder->capsules[i];
-      const Eigen::Vector3f centre = 0.5f * (c.a + c.b);
-      bounds.push_back({{PrimRef::Kind::Capsule, static_cast<std::uint8_t>(i)},
-                        {to_camera * (centre - origin), 0.5f * (c.b - c.a).norm() + c.radius}});
+      const Eigen::Vector3f r = Eigen::Vector3f::Constant(c.radius);
+      add({PrimRef::Kind::Capsule, static_cast<std::uint8_t>(i)}, c.a.cwiseMin(c.b) - r,
+          c.a.cwiseMax(c.b) + r, 0.5f * (c.a + c.b), 0.5f * (c.b - c.a).norm() + c.radius);
     }
   }
 
@@ -127,9 +153,12 @@ void SimRenderer::render(const Pose& T_world_camera, int lamp_state, const Occlu
     list.dynamic = false;
     if (!t.any_valid) continue;
     for (std::size_t bi = 0; bi < bounds.size() && list.count < kMaxPrims; ++bi) {
-      if (!cone_meets_sphere(t.axis, t.cos_half, t.sin_half, bounds[bi].second.centre,
-                             bounds[bi].second.radius))
-        continue;
+      const Bound& b = bounds[bi].second;
+      const bool meets =
+          b.has_rect ? b.rect[0] <= t.x1 - 1 && b.rect[2] >= t.x0 && b.rect[1] <= t.y1 - 1 &&
+                           b.rect[3] >= t.y0
+                     : cone_meets_sphere(t.axis, t.cos_half, t.sin_half, b.centre, b.radius);
+      if (!meets) continue;
       list.prims[list.count++] = bounds[bi].first;
       list.dynamic |= bi >= n_static;
     }
@@ -179,19 +208,27 @@ void SimRenderer::cast_tile(int index, const Eigen::Matrix3f& rotation,
       }
       const Ray ray(origin, d);
       const Hit hit = trace(ray, w, prims, occluder);
-      const Eigen::Vector3f c = shade(ray, hit, w, lamp_state, occluder);
-      rad[3 * x] = c.x();
-      rad[3 * x + 1] = c.y();
-      rad[3 * x + 2] = c.z();
+      bool has_depth = true;
+      if (hit.kind == Hit::Kind::Patch) {
+        // The common case, inline: a baked texel of the room or a box.
+        const Patch& patch = w.patches()[hit.index];
+        const Eigen::Vector3f p = ray.o + hit.t * ray.d;
+        const Eigen::Array4f c = patch_texel(patch, lamp_state, p);
+        rad[3 * x] = c[0];
+        rad[3 * x + 1] = c[1];
+        rad[3 * x + 2] = c[2];
+        has_depth = !with_depth || patch_has_depth(patch, p);
+      } else {
+        const Eigen::Vector3f c = shade(ray, hit, w, lamp_state, occluder);
+        rad[3 * x] = c.x();
+        rad[3 * x + 1] = c.y();
+        rad[3 * x + 2] = c.z();
+        has_depth = hit.kind != Hit::Kind::Mirror;
+      }
       if (with_depth) {
         depth_.at(x, y) = hit.t;
-        std::uint8_t f = 0;
-        if (hit.kind == Hit::Kind::Occluder) f |= kFlagOccluder;
-        if (hit.kind == Hit::Kind::Mirror ||
-            (hit.kind == Hit::Kind::Patch &&
-             !patch_has_depth(w.patches()[hit.index], ray.o + hit.t * ray.d)))
-          f |= kFlagNoDepth;
-        flags_.at(x, y) = f;
+        flags_.at(x, y) = static_cast<std::uint8_t>(
+            (hit.kind == Hit::Kind::Occluder ? kFlagOccluder : 0) | (has_depth ? 0 : kFlagNoDepth));
       }
     }
   }

@@ -150,19 +150,21 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
   DepthImage clean(w, h), measurable(w, h);
   for (std::size_t i = 0; i < clean.pixel_count(); ++i) {
     const float z = depth_m.data()[i];
-    const auto mm = static_cast<std::uint16_t>(std::clamp(std::lround(z * 1000.0f), 0L, 65535L));
+    // Depths are positive: + 0.5 and truncation rounds (std::lround is a library call).
+    const auto mm = static_cast<std::uint16_t>(std::min(z * 1000.0f + 0.5f, 65535.0f));
     clean.data()[i] = mm;
     measurable.data()[i] = (flags.data()[i] & kFlagNoDepth) ? 0 : mm;
   }
 
   frame.sequence = static_cast<std::uint64_t>(index);
   frame.timestamp_ns = pacer_.timestamp(index);
-  frame.color = ImageRGB8(w, h);
+  if (frame.color.width() != w || frame.color.height() != h) frame.color = ImageRGB8(w, h);
   const std::uint64_t frame_seed = hash_combine(world_->seed(), static_cast<std::uint64_t>(index));
+  const auto key = static_cast<std::uint32_t>(frame_seed);
   const auto& lut = gamma_table();
   const ImageRGBF& rad = renderer_.radiance();
-  const std::array<float, 3> scale{static_cast<float>(gain * wb[0]), static_cast<float>(gain * wb[1]),
-                                   static_cast<float>(gain * wb[2])};
+  std::vector<float> scale(3 * static_cast<std::size_t>(w));  // per element of a row
+  for (std::size_t i = 0; i < scale.size(); ++i) scale[i] = static_cast<float>(gain * wb[static_cast<int>(i % 3)]);
   constexpr int kRowsPerTask = 48;
   const int colour_tasks = (h + kRowsPerTask - 1) / kRowsPerTask;
   // The depth noise runs beside the colour conversion (one task against many small ones).
@@ -171,20 +173,21 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
       frame.depth = apply_kinect_noise(measurable, geometry_.fx, hash_combine(frame_seed, 1));
       return;
     }
+    const int n = 3 * w;
+    Eigen::ArrayXf noise(n), v(n);
+    std::vector<std::int32_t> level(n);
+    const Eigen::Map<const Eigen::ArrayXf> scale_row(scale.data(), n);
     const int y0 = (task - 1) * kRowsPerTask, y1 = std::min(h, y0 + kRowsPerTask);
     for (int y = y0; y < y1; ++y) {
-      const float* in = rad.row(y);
+      // Whole-row passes that vectorise: std::sqrt in a scalar loop does not (errno), nor
+      // Eigen's cast<int>; a plain float -> int32 loop does (measured: 3.3 -> 1.9 ms a frame).
+      fill_unit_noise(noise.data(), n, key, static_cast<std::uint32_t>(y) * n);
+      v = Eigen::Map<const Eigen::ArrayXf>(rad.row(y), n) * scale_row;
+      v += (kShotNoise * v.max(0.0f) + kReadNoise * kReadNoise).sqrt() * noise;
+      v = v.max(0.0f).min(1.0f) * 65535.0f + 0.5f;
+      for (int i = 0; i < n; ++i) level[i] = static_cast<std::int32_t>(v[i]);
       std::uint8_t* out = frame.color.row(y);
-      for (int x = 0; x < w; ++x) {
-        const std::uint64_t bits = mix64(frame_seed ^ (static_cast<std::uint64_t>(y) * w + x));
-        for (int c = 0; c < 3; ++c) {
-          float v = in[3 * x + c] * scale[c];
-          v += std::sqrt(kShotNoise * std::max(v, 0.0f) + kReadNoise * kReadNoise) *
-               unit_noise(bits >> (21 * c));
-          const float clipped = std::clamp(v, 0.0f, 1.0f);
-          out[3 * x + c] = lut[static_cast<std::size_t>(clipped * 65535.0f + 0.5f)];
-        }
-      }
+      for (int i = 0; i < n; ++i) out[i] = lut[level[i]];
     }
   });
 

@@ -105,6 +105,14 @@ class WorldBuilder {
     p.texel = texel;
     p.nu = std::max(2, static_cast<int>(std::ceil(p.size_u / texel)));
     p.nv = std::max(2, static_cast<int>(std::ceil(p.size_v / texel)));
+    p.axis_u = au;
+    p.axis_v = av;
+    p.scale_u = p.u[au] / texel;
+    p.scale_v = p.v[av] / texel;
+    p.offset_u = -p.origin[au] * p.scale_u - 0.5f;
+    p.offset_v = -p.origin[av] * p.scale_v - 0.5f;
+    p.max_fu = static_cast<float>(p.nu) - 1.001f;
+    p.max_fv = static_cast<float>(p.nv) - 1.001f;
     patches_.push_back(std::move(p));
     specs_.push_back({std::move(albedo), std::move(emission), light_spacing});
     return static_cast<int>(patches_.size()) - 1;

@@ -21,6 +21,10 @@ struct Patch {
   Eigen::Vector3f origin, u, v, normal;
   float size_u = 0, size_v = 0, texel = 0;
   int nu = 0, nv = 0;
+  // Lookups: u and v are world axes, so texel coordinates are one multiply-add per axis,
+  // fu = p[axis_u] * scale_u + offset_u (texel centres at integers), clamped to max_fu.
+  int axis_u = 0, axis_v = 1;
+  float scale_u = 0, offset_u = 0, scale_v = 0, offset_v = 0, max_fu = 0, max_fv = 0;
   bool no_depth = false;  // structured light fails on it (very dark)
   // World-space boxes (lo, hi) on the patch without depth: glass, a doorway into the dark.
   std::vector<std::array<Eigen::Vector3f, 2>> no_depth_boxes;
