@@ -69,11 +69,14 @@ ComputeContext::ComputeContext(const ComputeOptions& options) : profiling_(optio
   } catch (const ::cl::Error& e) {
     throw ClError(fmt::format("creating an OpenCL context on {}", info_.device_name), e);
   }
-  // 16 x 8 = 128 work-items: within every device's limit we target (Mali, VideoCore, PoCL)
-  // and a multiple of the usual SIMD widths; docs/performance.md has the measurement.
-  const std::size_t lx = std::min<std::size_t>(16, info_.max_work_group_size);
-  const std::size_t ly =
-      std::max<std::size_t>(1, std::min<std::size_t>(8, info_.max_work_group_size / lx));
+  // CPU devices (PoCL): 64 x 4, because PoCL vectorises across a work-group's rows, and 16-wide
+  // groups made the Direct matte 3x slower at 640x480 (docs/performance.md). GPUs: 16 x 8 =
+  // 128 work-items, within every embedded GPU's limit and a multiple of the usual SIMD widths
+  // (not yet measured on a board).
+  const bool cpu = info_.type == "CPU";
+  const std::size_t max_wg = std::max<std::size_t>(1, info_.max_work_group_size);
+  const std::size_t lx = std::min<std::size_t>(cpu ? 64 : 16, max_wg);
+  const std::size_t ly = std::max<std::size_t>(1, std::min<std::size_t>(cpu ? 4 : 8, max_wg / lx));
   local_2d_ = ::cl::NDRange(lx, ly);
 
   if (options.disk_cache)

@@ -57,9 +57,9 @@ TEST_P(DirectMatteTest, MatchesTheReferenceOnEverySize) {
 
 INSTANTIATE_TEST_SUITE_P(Both, DirectMatteTest,
                          ::testing::Values(UnknownDepth::Occluded, UnknownDepth::Visible),
-                         [](const auto& info) {
-                           return std::string(info.param == UnknownDepth::Visible ? "Direct2"
-                                                                                  : "Direct1");
+                         [](const auto& param_info) {
+                           return std::string(
+                               param_info.param == UnknownDepth::Visible ? "Direct2" : "Direct1");
                          });
 
 TEST(DirectMatte, NamesFollowTheThesis) {
