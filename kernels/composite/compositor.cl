@@ -3,7 +3,9 @@
 // into fma is off so that the device computes exactly what the CPU reference does.
 #pragma OPENCL FP_CONTRACT OFF
 
-inline float composite_weight(float a) { return a > 0.0f ? (a < 1.0f ? a : 1.0f) : 0.0f; }
+inline float composite_weight(float a) {
+  return a > 0.0f ? (a < 1.0f ? a : 1.0f) : 0.0f;
+}
 
 __kernel void composite_rgb8(__global const uchar* real_rgb, __global const uchar* virtual_rgba,
                              __global const float* alpha, __global uchar* out_rgb, int width,
@@ -20,8 +22,7 @@ __kernel void composite_rgb8(__global const uchar* real_rgb, __global const ucha
 }
 
 // The matte as an 8-bit image for file output: round(a * 255), half up.
-__kernel void matte_gray8(__global const float* alpha, __global uchar* out, int width,
-                          int height) {
+__kernel void matte_gray8(__global const float* alpha, __global uchar* out, int width, int height) {
   const int x = get_global_id(0);
   const int y = get_global_id(1);
   if (x >= width || y >= height) return;

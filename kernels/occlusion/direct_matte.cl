@@ -6,8 +6,8 @@
 #endif
 
 __kernel void direct_matte(__global const ushort* real_depth_mm,
-                           __global const float* virtual_depth_mm,
-                           __global float* alpha, int width, int height) {
+                           __global const float* virtual_depth_mm, __global float* alpha, int width,
+                           int height) {
   const int x = get_global_id(0);
   const int y = get_global_id(1);
   if (x >= width || y >= height) return;
