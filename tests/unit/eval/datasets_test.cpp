@@ -28,7 +28,9 @@ void expect_file_error(F&& f, const fs::path& file, const std::string& what = {}
     FAIL() << "no error for " << file;
   } catch (const ImageFileError& e) {
     EXPECT_NE(std::string(e.what()).find(file.string()), std::string::npos) << e.what();
-    if (!what.empty()) EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    if (!what.empty()) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
   }
 }
 
