@@ -81,9 +81,10 @@ void read_or_throw(ReadResult r, const char* what) {
 }
 
 void print_stream(const std::string& label, const StreamResult& r) {
-  std::cout << fmt::format("  {:<28} {:7.1f} fps  p50 {:6.2f} ms  p99 {:6.2f} ms  cpu {:6.2f} ms/frame\n",
-                           label, r.fps, r.per_frame.p50_ms, r.per_frame.p99_ms,
-                           r.cpu_ms_per_frame);
+  std::cout << fmt::format("  {:<28} {:7.1f} fps  p50 {:6.2f} ms  p99 {:6.2f} ms", label, r.fps,
+                           r.per_frame.p50_ms, r.per_frame.p99_ms);
+  if (r.cpu_ms_per_frame > 0) std::cout << fmt::format("  cpu {:6.2f} ms/frame", r.cpu_ms_per_frame);
+  std::cout << "\n";
 }
 
 void run(const BenchSimOptions& o) {
