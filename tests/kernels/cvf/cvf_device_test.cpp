@@ -106,9 +106,10 @@ void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& param
     ASSERT_EQ(t.band.elements()[i] != 0, ref.band.elements()[i] != 0) << i;
   EXPECT_EQ(t.models.infront, ref.models.infront);
   EXPECT_EQ(t.models.behind, ref.models.behind);
-  if (params.wide.subsample == 1)
+  if (params.wide.subsample == 1) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) ASSERT_NEAR(t.wide_input.at(x, y, 3), ref.cost.at(x, y), 1e-6);
+  }
 
   // The threshold may flip where the wide filter's output is within float noise of 0.5.
   int flips = 0, undecided = 0;
