@@ -73,7 +73,9 @@ TEST(SimRig, SameSeedSameFrames) {
     EXPECT_TRUE(fa.truth->clean_depth == fb.truth->clean_depth);
     EXPECT_TRUE(fa.truth->occluder_mask == fb.truth->occluder_mask);
   }
-  for (int i = 0; i < 2; ++i) EXPECT_TRUE(read_fisheye(a).raw == read_fisheye(b).raw);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_TRUE(read_fisheye(a).raw == read_fisheye(b).raw);
+  }
   Rig c = open("seed=6,realtime=0,trajectory=handheld");
   Rig d = open("seed=5,realtime=0,trajectory=handheld");
   EXPECT_FALSE(read_rgbd(c).color == read_rgbd(d).color);
@@ -197,7 +199,9 @@ TEST(SimRig, AutoExposureMapsMidGreyAndFollowsTheLampWithLag) {
     const auto [m, log_mean] = linear_means(f.color);
     mean.push_back(m);
     // The scene's log-mean maps near 0.18 (below it where the window clips at white).
-    if (i == 50) EXPECT_NEAR(log_mean, 0.18, 0.06);
+    if (i == 50) {
+      EXPECT_NEAR(log_mean, 0.18, 0.06);
+    }
   }
   // Lamp B switches off at 6 s (frame 60): the picture darkens, then the exposure catches up
   // over a few frames, not at once and not never.
