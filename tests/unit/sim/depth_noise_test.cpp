@@ -101,10 +101,14 @@ TEST(DepthNoise, DeterministicInTheSeed) {
 TEST(DepthNoise, NothingOutsideTheRangeOrWhereThereIsNoSurface) {
   for (double z : {0.3, 4.5}) {
     const DepthImage noisy = apply_kinect_noise(flat_wall(z), kFocal, 1);
-    for (std::uint16_t v : noisy.elements()) ASSERT_EQ(v, 0) << "z = " << z;
+    for (std::uint16_t v : noisy.elements()) {
+      ASSERT_EQ(v, 0) << "z = " << z;
+    }
   }
   const DepthImage nothing = apply_kinect_noise(DepthImage(64, 48, 0), kFocal, 1);
-  for (std::uint16_t v : nothing.elements()) ASSERT_EQ(v, 0);
+  for (std::uint16_t v : nothing.elements()) {
+    ASSERT_EQ(v, 0);
+  }
 }
 
 TEST(DepthNoise, HolesOnDepthEdgesNotOnSurfaces) {
