@@ -10,7 +10,7 @@
 #include <cctype>
 #include <stdexcept>
 
-namespace probeless::testing {
+namespace probeless::testing::loopback {
 namespace {
 
 int connect_loopback(int port) {
@@ -149,4 +149,4 @@ std::optional<std::vector<std::uint8_t>> MjpegReader::next_part(
   return body;
 }
 
-}  // namespace probeless::testing
+}  // namespace probeless::testing::loopback

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace probeless::testing {
+namespace probeless::testing::loopback {
 
 struct HttpResponse {
   int status = 0;
@@ -40,4 +40,4 @@ class MjpegReader {
   std::map<std::string, std::string> headers_;
 };
 
-}  // namespace probeless::testing
+}  // namespace probeless::testing::loopback

@@ -22,6 +22,9 @@ namespace probeless::testing {
 namespace {
 
 using namespace std::chrono_literals;
+// tests/unit/outputs has its own client of the same names: keep them apart (ODR).
+using loopback::http_get;
+using loopback::MjpegReader;
 
 std::string binary() {
   const char* b = std::getenv("PROBELESS_BINARY");
