@@ -132,7 +132,10 @@ class NotifySocket {
 };
 
 TEST(Service, NotifiesSystemdReadyStatusAndWatchdog) {
-  const auto dir = scratch_dir();
+  // A socket path must fit sun_path (108 bytes): the build tree's scratch dir can be longer.
+  char tmpl[] = "/tmp/probeless-notify-XXXXXX";
+  ASSERT_NE(::mkdtemp(tmpl), nullptr);
+  const std::filesystem::path dir = tmpl;
   NotifySocket sock(dir / "notify.sock");
   std::unique_ptr<Subprocess> proc;
   const int port = start_service(proc, {}, {{"NOTIFY_SOCKET", (dir / "notify.sock").string()},
@@ -153,6 +156,7 @@ TEST(Service, NotifiesSystemdReadyStatusAndWatchdog) {
   EXPECT_TRUE(seen.contains("WATCHDOG=1"));
   proc->send_signal(SIGTERM);
   const auto code = proc->wait(10s);
+  std::filesystem::remove_all(dir);
   ASSERT_TRUE(code.has_value());
   EXPECT_EQ(*code, 0);
 }
