@@ -111,7 +111,8 @@ class DitherTable {
   double lookup(double t, double f) const {
     if (t >= kMaxT) return std::sqrt(t * t - 1.0 / 12.0);  // Sheppard is exact enough here
     const double ff = std::min(f, 1.0 - f) * 2 * (kF - 1), tt = t * (kT - 1) / kMaxT;
-    const int fi = std::min(static_cast<int>(ff), kF - 2), ti = std::min(static_cast<int>(tt), kT - 2);
+    const int fi = std::min(static_cast<int>(ff), kF - 2),
+              ti = std::min(static_cast<int>(tt), kT - 2);
     const double a = ff - fi, b = tt - ti;
     const auto at = [&](int i, int j) { return s_[static_cast<std::size_t>(i) * kT + j]; };
     return (1 - a) * ((1 - b) * at(fi, ti) + b * at(fi, ti + 1)) +
@@ -144,7 +145,9 @@ const DitherTable& dither_table() {
 }
 
 // Nearest integer of a non-negative value (std::round is a library call on baseline x86-64).
-double round_positive(double x) { return static_cast<double>(static_cast<std::int64_t>(x + 0.5)); }
+double round_positive(double x) {
+  return static_cast<double>(static_cast<std::int64_t>(x + 0.5));
+}
 
 // The projector's dot pattern: one dot per spacing x spacing cell at a fixed pseudo-random
 // offset (a stand-in for the Kinect speckle image simkinect reads). Fixed hardware: it does
@@ -182,14 +185,17 @@ struct DotPattern {
     for (const auto& row : by_row) scan.insert(scan.end(), row.begin(), row.end());
     for (std::uint32_t k : scan) {
       first.push_back(static_cast<std::uint32_t>(neighbours.size()));
-      const int cx0 = std::max(0, (x[k] - half) / spacing), cx1 = std::min(cols - 1, (x[k] + half) / spacing);
-      const int cy0 = std::max(0, (y[k] - half) / spacing), cy1 = std::min(rows - 1, (y[k] + half) / spacing);
+      const int cx0 = std::max(0, (x[k] - half) / spacing),
+                cx1 = std::min(cols - 1, (x[k] + half) / spacing);
+      const int cy0 = std::max(0, (y[k] - half) / spacing),
+                cy1 = std::min(rows - 1, (y[k] + half) / spacing);
       for (int cy = cy0; cy <= cy1; ++cy) {
         for (int cx = cx0; cx <= cx1; ++cx) {
           const std::size_t j = static_cast<std::size_t>(cy) * cols + cx;
           const int ox = x[j] - x[k], oy = y[j] - y[k];
           if (x[j] < 0 || std::abs(ox) > half || std::abs(oy) > half) continue;
-          neighbours.push_back({static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(ox * ox + oy * oy)});
+          neighbours.push_back(
+              {static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(ox * ox + oy * oy)});
         }
       }
     }
@@ -295,7 +301,8 @@ DepthImage apply_kinect_noise(const DepthImage& clean, double focal_px, std::uin
   for (int dy = -fr; dy <= fr; ++dy) {
     fill_run[dy + fr] = static_cast<int>(std::sqrt(static_cast<double>(fr * fr - dy * dy)) + 1e-9);
     for (int dx = -fr; dx <= fr; ++dx)
-      fill_weights[static_cast<std::size_t>(dy + fr) * fill_side + dx + fr] = 1.0f / (1.0f + dx * dx + dy * dy);
+      fill_weights[static_cast<std::size_t>(dy + fr) * fill_side + dx + fr] =
+          1.0f / (1.0f + dx * dx + dy * dy);
   }
   // A dot r px from the centre is an inlier within window_inlier_px * 1.44 r^2 of the mean.
   std::vector<double> tolerance(2 * half * half + 1);
@@ -363,7 +370,11 @@ DepthImage apply_kinect_noise(const DepthImage& clean, double focal_px, std::uin
   // NaN (no measurement) compares false.
   const Eigen::Map<const Eigen::ArrayXf> d_out(result.data(), n_pixels);
   Eigen::Map<Eigen::Array<std::uint16_t, Eigen::Dynamic, 1>>(out.data(), n_pixels) =
-      (d_out > 0.0f).select(fb_mm / d_out + 0.5f, 0.0f).min(65535.0f).cast<int>().cast<std::uint16_t>();
+      (d_out > 0.0f)
+          .select(fb_mm / d_out + 0.5f, 0.0f)
+          .min(65535.0f)
+          .cast<int>()
+          .cast<std::uint16_t>();
   return out;
 }
 

@@ -13,9 +13,9 @@
 namespace probeless {
 
 struct KinectNoiseParams {
-  double baseline_m = 0.075;             // IR projector-camera baseline
-  double shift_sigma_px = 0.5;           // per-pixel random 2-D shift of the grid (ICL-NUIM)
-  double disparity_quantum_px = 1.0 / 8; // sub-pixel disparity resolution
+  double baseline_m = 0.075;                    // IR projector-camera baseline
+  double shift_sigma_px = 0.5;                  // per-pixel random 2-D shift of the grid (ICL-NUIM)
+  double disparity_quantum_px = 1.0 / 8;        // sub-pixel disparity resolution
   double min_depth_m = 0.5, max_depth_m = 4.0;  // outside this range: no depth
   // Axial noise sigma_z(z) = a + b (z - z0)^2 (Nguyen et al. 2012, fitted on a Kinect v1).
   double axial_a_m = 0.0012, axial_b_per_m = 0.0019, axial_z0_m = 0.4;
@@ -35,7 +35,7 @@ double kinect_axial_sigma_m(double z_m, const KinectNoiseParams& params = {});
 
 // clean_depth_mm: 0 = no surface. focal_px: the camera's fx. Deterministic in seed (the
 // same inputs give bit-identical output on every machine and thread count).
-DepthImage apply_kinect_noise(const DepthImage& clean_depth_mm, double focal_px,
-                              std::uint64_t seed, const KinectNoiseParams& params = {});
+DepthImage apply_kinect_noise(const DepthImage& clean_depth_mm, double focal_px, std::uint64_t seed,
+                              const KinectNoiseParams& params = {});
 
 }  // namespace probeless

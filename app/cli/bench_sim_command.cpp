@@ -83,7 +83,8 @@ void read_or_throw(ReadResult r, const char* what) {
 void print_stream(const std::string& label, const StreamResult& r) {
   std::cout << fmt::format("  {:<28} {:7.1f} fps  p50 {:6.2f} ms  p99 {:6.2f} ms", label, r.fps,
                            r.per_frame.p50_ms, r.per_frame.p99_ms);
-  if (r.cpu_ms_per_frame > 0) std::cout << fmt::format("  cpu {:6.2f} ms/frame", r.cpu_ms_per_frame);
+  if (r.cpu_ms_per_frame > 0)
+    std::cout << fmt::format("  cpu {:6.2f} ms/frame", r.cpu_ms_per_frame);
   std::cout << "\n";
 }
 
@@ -105,9 +106,8 @@ void run(const BenchSimOptions& o) {
     read_or_throw(rig.rgbd->read(rgbd, timeout), "RGB-D");
     read_or_throw(rig.fisheye->read(fisheye, timeout), "fisheye");
   }
-  const StreamResult rgbd_alone = run_alone(o.frames, [&](int) {
-    read_or_throw(rig.rgbd->read(rgbd, timeout), "RGB-D");
-  });
+  const StreamResult rgbd_alone =
+      run_alone(o.frames, [&](int) { read_or_throw(rig.rgbd->read(rgbd, timeout), "RGB-D"); });
   print_stream("RGB-D alone", rgbd_alone);
   const StreamResult fisheye_alone = run_alone(o.frames, [&](int i) {
     rig.fisheye->set_next_exposure(bracket(static_cast<std::uint64_t>(i)));
@@ -191,7 +191,8 @@ void add_bench_sim_command(CLI::App& bench) {
   auto* cmd = bench.add_subcommand("sim", "Synthetic rig render speed (RGB-D and fisheye)");
   cmd->add_option("--frames", opts->frames, "RGB-D frames per measurement")
       ->check(CLI::Range(1, 1000000));
-  cmd->add_option("--sim", opts->sim, "Extra sim options (e.g. trajectory=static,fisheye_size=1024)");
+  cmd->add_option("--sim", opts->sim,
+                  "Extra sim options (e.g. trajectory=static,fisheye_size=1024)");
   cmd->add_option("--fisheye-fps", opts->fisheye_fps, "Fisheye rate when both run")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--json", opts->json, "Also write the numbers to this JSON file");

@@ -33,8 +33,8 @@ SensorModel sensor_model(int bit_depth) {
 
 }  // namespace
 
-SimFisheyeSource::SimFisheyeSource(std::shared_ptr<const SimWorld> world,
-                                   const SimOptions& options, const RigGeometry& geometry,
+SimFisheyeSource::SimFisheyeSource(std::shared_ptr<const SimWorld> world, const SimOptions& options,
+                                   const RigGeometry& geometry,
                                    std::shared_ptr<const CameraModel> camera, TimestampNs start_ns)
     : world_(std::move(world)),
       options_(options),
@@ -44,8 +44,8 @@ SimFisheyeSource::SimFisheyeSource(std::shared_ptr<const SimWorld> world,
       renderer_(world_, *camera, &pool_),
       end_index_(options.max_frames < 0
                      ? -1
-                     : static_cast<std::int64_t>(std::floor(options.max_frames * options.fisheye_fps /
-                                                            options.rgbd_fps))) {}
+                     : static_cast<std::int64_t>(std::floor(
+                           options.max_frames * options.fisheye_fps / options.rgbd_fps))) {}
 
 void SimFisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
   std::lock_guard lock(exposure_mutex_);
@@ -105,9 +105,11 @@ void SimFisheyeSource::render_frame(std::int64_t index, const ExposureStamp& exp
       // Row passes that vectorise (see the RGB-D colour conversion).
       fill_unit_noise(noise.data(), n, key, static_cast<std::uint32_t>(y) * n);
       signal = Eigen::Map<const Eigen::ArrayXf>(rad.row(y), n) * to_dn;
-      signal = (black + signal + (shot * signal + read_var).sqrt() * noise + 0.5f).max(0.0f).min(white);
+      signal =
+          (black + signal + (shot * signal + read_var).sqrt() * noise + 0.5f).max(0.0f).min(white);
       std::uint16_t* out = frame.raw.row(y);
-      for (int i = 0; i < n; ++i) out[i] = static_cast<std::uint16_t>(static_cast<std::int32_t>(signal[i]));
+      for (int i = 0; i < n; ++i)
+        out[i] = static_cast<std::uint16_t>(static_cast<std::int32_t>(signal[i]));
     }
   });
 

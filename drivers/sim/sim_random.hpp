@@ -13,7 +13,9 @@ inline std::uint64_t mix64(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-inline std::uint64_t hash_combine(std::uint64_t a, std::uint64_t b) { return mix64(a ^ mix64(b)); }
+inline std::uint64_t hash_combine(std::uint64_t a, std::uint64_t b) {
+  return mix64(a ^ mix64(b));
+}
 
 // Uniform in [0, 1) from the top 24 bits.
 inline float uniform01(std::uint64_t bits) {
@@ -42,7 +44,8 @@ inline float unit_noise(std::uint32_t bits) {
 
 // noise[i] for i in [0, n): the deviates of stream `key` at counters first + i.
 inline void fill_unit_noise(float* noise, int n, std::uint32_t key, std::uint32_t first) {
-  for (int i = 0; i < n; ++i) noise[i] = unit_noise(hash32((first + static_cast<std::uint32_t>(i)) ^ key));
+  for (int i = 0; i < n; ++i)
+    noise[i] = unit_noise(hash32((first + static_cast<std::uint32_t>(i)) ^ key));
 }
 
 }  // namespace probeless::sim

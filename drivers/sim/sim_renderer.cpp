@@ -31,8 +31,14 @@ bool cone_meets_sphere(const Eigen::Vector3f& axis, float cos_half, float sin_ha
 
 SimRenderer::SimRenderer(std::shared_ptr<const SimWorld> world, int width, int height, double fx,
                          double fy, double cx, double cy, WorkerPool* pool)
-    : world_(std::move(world)), width_(width), height_(height), fx_(fx), fy_(fy), cx_(cx),
-      cy_(cy), pool_(pool) {
+    : world_(std::move(world)),
+      width_(width),
+      height_(height),
+      fx_(fx),
+      fy_(fy),
+      cx_(cx),
+      cy_(cy),
+      pool_(pool) {
   build_tiles();
 }
 
@@ -182,8 +188,8 @@ void SimRenderer::render(const Pose& T_world_camera, int lamp_state, const Occlu
 }
 
 void SimRenderer::cast_tile(int index, const Eigen::Matrix3f& rotation,
-                            const Eigen::Vector3f& origin, int lamp_state,
-                            const Occluder* occluder, bool with_depth) {
+                            const Eigen::Vector3f& origin, int lamp_state, const Occluder* occluder,
+                            bool with_depth) {
   const Tile& t = tiles_[index];
   const TileList& list = lists_[index];
   const std::span<const PrimRef> prims(list.prims.data(), list.count);

@@ -24,8 +24,8 @@ class SimRenderer {
  public:
   // An ideal pinhole (rays with camera-z = 1, so the hit distance is the depth). pool: the
   // threads to cast with (null: the caller's only); it must outlive the renderer.
-  SimRenderer(std::shared_ptr<const SimWorld> world, int width, int height, double fx,
-              double fy, double cx, double cy, WorkerPool* pool);
+  SimRenderer(std::shared_ptr<const SimWorld> world, int width, int height, double fx, double fy,
+              double cx, double cy, WorkerPool* pool);
   // Any central camera model: one unit ray per pixel, from unproject().
   SimRenderer(std::shared_ptr<const SimWorld> world, const CameraModel& camera, WorkerPool* pool);
 
@@ -36,8 +36,6 @@ class SimRenderer {
   const ImageRGBF& radiance() const { return radiance_; }
   const ImageF& depth() const { return depth_; }  // metres along the optical axis
   const ImageGray8& flags() const { return flags_; }
-  // Pixels that see nothing (outside a fisheye's image circle).
-  bool valid(int x, int y) const { return table_.empty() || valid_[static_cast<std::size_t>(y) * width_ + x]; }
   int width() const { return width_; }
   int height() const { return height_; }
   // Tiles cast in the last render() (a static rig's frames re-cast only the arm's tiles).

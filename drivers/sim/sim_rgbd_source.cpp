@@ -44,7 +44,8 @@ std::int64_t FramePacer::latest_due(TimestampNs now) const {
 bool FramePacer::wait_until(TimestampNs deadline, std::chrono::milliseconds timeout) {
   const TimestampNs now = monotonic_now_ns();
   if (deadline <= now) return true;
-  const TimestampNs limit = now + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+  const TimestampNs limit =
+      now + std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
   std::this_thread::sleep_for(std::chrono::nanoseconds(std::min(deadline, limit) - now));
   return deadline <= limit;
 }
@@ -60,8 +61,8 @@ SimRgbdSource::SimRgbdSource(std::shared_ptr<const SimWorld> world, const SimOpt
                 geometry.cy, &pool_),
       meter_renderer_(world_, geometry.width / kMeterScale, geometry.height / kMeterScale,
                       geometry.fx / kMeterScale, geometry.fy / kMeterScale,
-                      (geometry.cx + 0.5) / kMeterScale - 0.5, (geometry.cy + 0.5) / kMeterScale - 0.5,
-                      nullptr) {}
+                      (geometry.cx + 0.5) / kMeterScale - 0.5,
+                      (geometry.cy + 0.5) / kMeterScale - 0.5, nullptr) {}
 
 ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeout) {
   for (;;) {
@@ -75,8 +76,8 @@ ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
       TimestampNs end = pacer_.timestamp(options_.stall_end);
       if (!pacer_.realtime()) {
         if (stall_wall_end_ == 0)
-          stall_wall_end_ = monotonic_now_ns() +
-                            pacer_.timestamp(options_.stall_end) - pacer_.timestamp(next_);
+          stall_wall_end_ =
+              monotonic_now_ns() + pacer_.timestamp(options_.stall_end) - pacer_.timestamp(next_);
         end = stall_wall_end_;
       }
       if (!FramePacer::wait_until(end, timeout)) return ReadResult::NoFrameYet;
@@ -119,7 +120,8 @@ const SimRgbdSource::Metering& SimRgbdSource::meter(std::int64_t index) {
   return metering_.emplace(index, m).first->second;
 }
 
-void SimRgbdSource::auto_exposure(std::int64_t index, double& gain, Eigen::Vector3d& white_balance) {
+void SimRgbdSource::auto_exposure(std::int64_t index, double& gain,
+                                  Eigen::Vector3d& white_balance) {
   Eigen::Vector3d log_mean = Eigen::Vector3d::Zero();
   double weight_sum = 0, weight = 1;
   for (int k = 1; k <= kMeterFrames; ++k) {
@@ -130,7 +132,8 @@ void SimRgbdSource::auto_exposure(std::int64_t index, double& gain, Eigen::Vecto
   log_mean /= weight_sum;
   const double log_y = 0.2126 * log_mean[0] + 0.7152 * log_mean[1] + 0.0722 * log_mean[2];
   gain = kMidGrey / std::exp(log_y);
-  for (int c = 0; c < 3; ++c) white_balance[c] = std::clamp(std::exp(log_y - log_mean[c]), 0.5, 2.0);
+  for (int c = 0; c < 3; ++c)
+    white_balance[c] = std::clamp(std::exp(log_y - log_mean[c]), 0.5, 2.0);
 }
 
 void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
@@ -164,7 +167,8 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
   const auto& lut = gamma_table();
   const ImageRGBF& rad = renderer_.radiance();
   std::vector<float> scale(3 * static_cast<std::size_t>(w));  // per element of a row
-  for (std::size_t i = 0; i < scale.size(); ++i) scale[i] = static_cast<float>(gain * wb[static_cast<int>(i % 3)]);
+  for (std::size_t i = 0; i < scale.size(); ++i)
+    scale[i] = static_cast<float>(gain * wb[static_cast<int>(i % 3)]);
   constexpr int kRowsPerTask = 48;
   const int colour_tasks = (h + kRowsPerTask - 1) / kRowsPerTask;
   // The depth noise runs beside the colour conversion (one task against many small ones).

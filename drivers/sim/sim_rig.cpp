@@ -87,10 +87,14 @@ SimOptions parse_sim_options(std::string_view spec) {
     if (key == "seed") {
       o.seed = parse_number<std::uint64_t>(key, value, "an unsigned integer");
     } else if (key == "trajectory") {
-      if (value == "static") o.trajectory = TrajectoryKind::Static;
-      else if (value == "orbit") o.trajectory = TrajectoryKind::Orbit;
-      else if (value == "handheld") o.trajectory = TrajectoryKind::Handheld;
-      else bad(key, value, "static, orbit or handheld");
+      if (value == "static")
+        o.trajectory = TrajectoryKind::Static;
+      else if (value == "orbit")
+        o.trajectory = TrajectoryKind::Orbit;
+      else if (value == "handheld")
+        o.trajectory = TrajectoryKind::Handheld;
+      else
+        bad(key, value, "static, orbit or handheld");
     } else if (key == "fps" || key == "rgbd_fps") {
       o.rgbd_fps = parse_positive(key, value, 1000);
     } else if (key == "fisheye_fps") {
@@ -145,8 +149,14 @@ Rig make_sim_rig(const SimOptions& options) {
   rig.calibration.T_rig_fisheye = fisheye_in_rig();
   rig.calibration.depth_baseline_m = KinectNoiseParams{}.baseline_m;
 
-  const RigGeometry geometry{rig.calibration.T_rig_rgb, rig.calibration.T_rig_fisheye,
-                             k.fx, k.fy, k.cx, k.cy, k.width, k.height};
+  const RigGeometry geometry{rig.calibration.T_rig_rgb,
+                             rig.calibration.T_rig_fisheye,
+                             k.fx,
+                             k.fy,
+                             k.cx,
+                             k.cy,
+                             k.width,
+                             k.height};
   auto world = shared_world(options.seed);
   const TimestampNs start = monotonic_now_ns();
   rig.rgbd = std::make_unique<SimRgbdSource>(world, options, geometry, start);

@@ -20,7 +20,7 @@ struct SimOptions {
   // skips frames a slow reader missed, as a camera would; false: as fast as the renderer goes
   // (bench, record, tests), every frame in order.
   bool realtime = true;
-  int fisheye_size = 512;  // square image, 64..1024
+  int fisheye_size = 512;      // square image, 64..1024
   int fisheye_bit_depth = 12;  // 8 or 12
   double fisheye_fov_deg = 190;
   std::int64_t max_frames = -1;  // then EndOfStream (RGB-D frames count); -1: endless

@@ -18,7 +18,6 @@ class FramePacer {
  public:
   FramePacer(TimestampNs start_ns, double fps, bool realtime)
       : start_ns_(start_ns), fps_(fps), realtime_(realtime) {}
-  double fps() const { return fps_; }
   bool realtime() const { return realtime_; }
   double seconds(std::int64_t index) const { return index / fps_; }
   TimestampNs timestamp(std::int64_t index) const {

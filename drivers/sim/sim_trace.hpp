@@ -104,11 +104,14 @@ inline Hit trace(const Ray& r, const SimWorld& w, std::span<const PrimRef> candi
   hit_room(r, w, hit);
   for (const PrimRef& p : candidates) {
     switch (p.kind) {
-      case PrimRef::Kind::Box: hit_box(r, w.boxes()[p.index], hit); break;
+      case PrimRef::Kind::Box:
+        hit_box(r, w.boxes()[p.index], hit);
+        break;
       case PrimRef::Kind::Sphere: {
         const Sphere& s = w.spheres()[p.index];
         float t;
-        if (hit_sphere(r, s.centre, s.radius, t) && t < hit.t) hit = {Hit::Kind::Mirror, t, p.index};
+        if (hit_sphere(r, s.centre, s.radius, t) && t < hit.t)
+          hit = {Hit::Kind::Mirror, t, p.index};
         break;
       }
       case PrimRef::Kind::Capsule: {
@@ -129,14 +132,16 @@ inline Eigen::Array4f patch_texel(const Patch& patch, int lamp_state, const Poin
   const float fv = std::clamp(p[patch.axis_v] * patch.scale_v + patch.offset_v, 0.0f, patch.max_fv);
   const int i = static_cast<int>(fu), j = static_cast<int>(fv);
   const float au = fu - i, av = fv - j;
-  const Eigen::Array4f* t00 = patch.radiance[lamp_state].data() + static_cast<std::size_t>(j) * patch.nu + i;
+  const Eigen::Array4f* t00 =
+      patch.radiance[lamp_state].data() + static_cast<std::size_t>(j) * patch.nu + i;
   const Eigen::Array4f* t01 = t00 + patch.nu;
   const Eigen::Array4f top = t00[0] + au * (t00[1] - t00[0]);
   const Eigen::Array4f bottom = t01[0] + au * (t01[1] - t01[0]);
   return top + av * (bottom - top);
 }
 
-inline Eigen::Vector3f patch_radiance(const Patch& patch, int lamp_state, const Eigen::Vector3f& p) {
+inline Eigen::Vector3f patch_radiance(const Patch& patch, int lamp_state,
+                                      const Eigen::Vector3f& p) {
   return patch_texel(patch, lamp_state, p).head<3>().matrix();
 }
 

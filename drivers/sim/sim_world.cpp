@@ -20,7 +20,7 @@ const Vec3 kRoomLo{-2.5f, -2.5f, 0.0f};
 const Vec3 kRoomHi{2.5f, 2.5f, 2.7f};
 constexpr double kTableTop = 0.75;
 const Eigen::Vector3d kAnchor{0.0, 0.6, kTableTop};
-constexpr double kRigHeight = 1.15;    // colour camera centre above the floor
+constexpr double kRigHeight = 1.15;  // colour camera centre above the floor
 // Rig to anchor, horizontally: the back wall is then 3.6 m away, inside the depth range.
 constexpr double kOrbitRadius = 1.7;
 constexpr double kOrbitPeriod = 60.0;  // seconds per revolution ("slow orbit")
@@ -38,8 +38,8 @@ constexpr float kMullion = 0.035f;
 
 // Value noise on an integer lattice, smoothly interpolated, in [0, 1).
 float lattice(std::int64_t x, std::int64_t y, std::uint64_t seed) {
-  return uniform01(hash_combine(seed, static_cast<std::uint64_t>(x) * 0x9E3779B1u ^
-                                          (static_cast<std::uint64_t>(y) << 32)));
+  return uniform01(hash_combine(
+      seed, static_cast<std::uint64_t>(x) * 0x9E3779B1u ^ (static_cast<std::uint64_t>(y) << 32)));
 }
 
 float value_noise(float x, float y, std::uint64_t seed) {
@@ -123,7 +123,9 @@ class WorldBuilder {
               const AlbedoFn& albedo) {
     Box b{lo, hi, {}};
     for (int f = 0; f < 6; ++f)
-      b.patch[f] = (faces >> f) & 1u ? add_face(lo, hi, f / 2, f % 2, false, texel, light_spacing, albedo) : -1;
+      b.patch[f] = (faces >> f) & 1u
+                       ? add_face(lo, hi, f / 2, f % 2, false, texel, light_spacing, albedo)
+                       : -1;
     return b;
   }
 
@@ -139,7 +141,9 @@ class WorldBuilder {
 namespace {
 
 constexpr unsigned kAllFaces = 0x3f;
-constexpr unsigned face_bit(int axis, int side) { return 1u << (axis * 2 + side); }
+constexpr unsigned face_bit(int axis, int side) {
+  return 1u << (axis * 2 + side);
+}
 
 // The lamps and the window as light sources, and their appearance on the ceiling and wall.
 struct Emitters {
@@ -148,13 +152,28 @@ struct Emitters {
 
 Emitters make_emitters() {
   Emitters e;
-  e.lamp_a = {{-0.6f, 0.3f, 2.7f}, {0.3f, 0, 0}, {0, 0.3f, 0}, {0, 0, -1},
-              Vec3(1.0f, 0.86f, 0.70f) * 10000.0f, -1, false};
-  e.lamp_b = {{1.3f, -1.2f, 2.7f}, {0.3f, 0, 0}, {0, 0.3f, 0}, {0, 0, -1},
-              Vec3(0.92f, 0.96f, 1.0f) * 10000.0f, 0, false};
+  e.lamp_a = {{-0.6f, 0.3f, 2.7f},
+              {0.3f, 0, 0},
+              {0, 0.3f, 0},
+              {0, 0, -1},
+              Vec3(1.0f, 0.86f, 0.70f) * 10000.0f,
+              -1,
+              false};
+  e.lamp_b = {{1.3f, -1.2f, 2.7f},
+              {0.3f, 0, 0},
+              {0, 0.3f, 0},
+              {0, 0, -1},
+              Vec3(0.92f, 0.96f, 1.0f) * 10000.0f,
+              0,
+              false};
   const float wx = 0.5f * (kWinX1 - kWinX0), wz = 0.5f * (kWinZ1 - kWinZ0);
-  e.window = {{0.5f * (kWinX0 + kWinX1), 2.5f, 0.5f * (kWinZ0 + kWinZ1)}, {wx, 0, 0}, {0, 0, wz},
-              {0, -1, 0}, Vec3::Zero(), -1, true};
+  e.window = {{0.5f * (kWinX0 + kWinX1), 2.5f, 0.5f * (kWinZ0 + kWinZ1)},
+              {wx, 0, 0},
+              {0, 0, wz},
+              {0, -1, 0},
+              Vec3::Zero(),
+              -1,
+              true};
   return e;
 }
 
@@ -234,7 +253,8 @@ void SimWorld::build_geometry(WorldBuilder& b) {
   };
   const AlbedoFn right_wall = [plaster](const Vec3& p) -> Vec3 {
     if (p.y() > kDoorY0 && p.y() < kDoorY1 && p.z() < kDoorZ1) return {0.004f, 0.004f, 0.005f};
-    const bool frame = p.y() > kDoorY0 - 0.06f && p.y() < kDoorY1 + 0.06f && p.z() < kDoorZ1 + 0.06f;
+    const bool frame =
+        p.y() > kDoorY0 - 0.06f && p.y() < kDoorY1 + 0.06f && p.z() < kDoorZ1 + 0.06f;
     return frame ? Vec3(0.86f, 0.86f, 0.84f) : plaster(p);
   };
   const AlbedoFn back_wall = [s, plaster](const Vec3& p) -> Vec3 {
@@ -248,7 +268,8 @@ void SimWorld::build_geometry(WorldBuilder& b) {
     return in_window_glass(p) ? sky_radiance(p, s) : Vec3::Zero();
   };
   const AlbedoFn ceiling = [s](const Vec3& p) -> Vec3 {
-    return Vec3(0.82f, 0.82f, 0.80f) * (0.96f + 0.06f * value_noise(p.x() * 20, p.y() * 20, s + 50));
+    return Vec3(0.82f, 0.82f, 0.80f) *
+           (0.96f + 0.06f * value_noise(p.x() * 20, p.y() * 20, s + 50));
   };
   const EmissionFn lamps = [em](const Vec3& p, int state) -> Vec3 {
     for (const AreaLight* l : {&em.lamp_a, &em.lamp_b}) {
@@ -271,24 +292,28 @@ void SimWorld::build_geometry(WorldBuilder& b) {
       albedo = back_wall;
       emission = window;
     }
-    room_patch_[f] = b.add_face(room_lo_, room_hi_, axis, side, true, kRoomTexel, kRoomLight,
-                                albedo, emission);
+    room_patch_[f] =
+        b.add_face(room_lo_, room_hi_, axis, side, true, kRoomTexel, kRoomLight, albedo, emission);
   }
   // Glass, and the corridor beyond the doorway, give no structured-light depth.
-  patches_[room_patch_[3]].no_depth_boxes.push_back({Vec3(kWinX0, 2.5f, kWinZ0), Vec3(kWinX1, 2.5f, kWinZ1)});
-  patches_[room_patch_[1]].no_depth_boxes.push_back({Vec3(2.5f, kDoorY0, 0.0f), Vec3(2.5f, kDoorY1, kDoorZ1)});
+  patches_[room_patch_[3]].no_depth_boxes.push_back(
+      {Vec3(kWinX0, 2.5f, kWinZ0), Vec3(kWinX1, 2.5f, kWinZ1)});
+  patches_[room_patch_[1]].no_depth_boxes.push_back(
+      {Vec3(2.5f, kDoorY0, 0.0f), Vec3(2.5f, kDoorY1, kDoorZ1)});
 
   // The table: a wooden top on four dark metal legs.
   const AlbedoFn table_wood = [s](const Vec3& p) -> Vec3 {
     const float grain = 0.75f + 0.5f * fbm(p.x() * 2.5f, p.y() * 45.0f + p.z() * 45.0f, s + 60, 4);
-    const float ring = 0.9f + 0.1f * std::sin(40.0f * p.y() + 6.0f * fbm(p.x(), p.y() * 3, s + 61, 2));
+    const float ring =
+        0.9f + 0.1f * std::sin(40.0f * p.y() + 6.0f * fbm(p.x(), p.y() * 3, s + 61, 2));
     return Vec3(0.58f, 0.38f, 0.22f) * (grain * ring);
   };
   const AlbedoFn metal = [](const Vec3&) -> Vec3 { return {0.07f, 0.07f, 0.08f}; };
   const float top = static_cast<float>(kTableTop);
   const float ay = static_cast<float>(kAnchor.y());  // the table is centred on the anchor
   const Vec3 table_lo(-0.75f, ay - 0.4f, top - 0.03f), table_hi(0.75f, ay + 0.4f, top);
-  boxes_.push_back(b.add_box(table_lo, table_hi, kAllFaces & ~face_bit(2, 1), 0.01f, 0.05f, table_wood));
+  boxes_.push_back(
+      b.add_box(table_lo, table_hi, kAllFaces & ~face_bit(2, 1), 0.01f, 0.05f, table_wood));
   {  // the top face, finer: virtual objects stand on it and their shadows fall on it
     Box& t = boxes_.back();
     t.patch[5] = b.add_face(table_lo, table_hi, 2, 1, false, 0.004f, 0.025f, table_wood);
@@ -296,24 +321,27 @@ void SimWorld::build_geometry(WorldBuilder& b) {
   for (float lx : {-0.7f, 0.65f})
     for (float ly : {ay - 0.35f, ay + 0.3f})
       boxes_.push_back(b.add_box({lx, ly, 0.0f}, {lx + 0.05f, ly + 0.05f, top - 0.03f},
-                                 kAllFaces & ~(face_bit(2, 0) | face_bit(2, 1)), 0.01f, 0.05f, metal));
+                                 kAllFaces & ~(face_bit(2, 0) | face_bit(2, 1)), 0.01f, 0.05f,
+                                 metal));
 
   // A red box with a label on the table, left of the anchor.
   const AlbedoFn red_box = [s](const Vec3& p) -> Vec3 {
     const float z = p.z() - static_cast<float>(kTableTop);
     if (z > 0.07f && z < 0.11f) {
-      const float ink = value_noise(p.x() * 150 + p.y() * 150, z * 150, s + 70) > 0.6f ? 0.2f : 1.0f;
+      const float ink =
+          value_noise(p.x() * 150 + p.y() * 150, z * 150, s + 70) > 0.6f ? 0.2f : 1.0f;
       return Vec3(0.90f, 0.84f, 0.58f) * ink;
     }
-    return Vec3(0.62f, 0.07f, 0.05f) * (0.9f + 0.2f * value_noise(p.x() * 80, p.y() * 80 + p.z() * 80, s + 71));
+    return Vec3(0.62f, 0.07f, 0.05f) *
+           (0.9f + 0.2f * value_noise(p.x() * 80, p.y() * 80 + p.z() * 80, s + 71));
   };
   boxes_.push_back(b.add_box({-0.6f, ay + 0.1f, top}, {-0.4f, ay + 0.28f, top + 0.18f},
                              kAllFaces & ~face_bit(2, 0), 0.005f, 0.03f, red_box));
 
   // A black television on the back wall: too dark for structured light.
   const AlbedoFn black = [](const Vec3&) -> Vec3 { return {0.015f, 0.015f, 0.018f}; };
-  boxes_.push_back(b.add_box({-2.0f, 2.45f, 0.9f}, {-0.8f, 2.5f, 1.6f},
-                             kAllFaces & ~face_bit(1, 1), 0.01f, 0.1f, black));
+  boxes_.push_back(b.add_box({-2.0f, 2.45f, 0.9f}, {-0.8f, 2.5f, 1.6f}, kAllFaces & ~face_bit(1, 1),
+                             0.01f, 0.1f, black));
   for (int f : boxes_.back().patch)
     if (f >= 0) patches_[f].no_depth = true;
 
@@ -322,22 +350,23 @@ void SimWorld::build_geometry(WorldBuilder& b) {
     const bool seam = std::abs(p.y() - 0.25f) < 0.004f || std::abs(p.z() - 0.45f) < 0.004f;
     const bool handle = std::abs(p.y() - 0.2f) < 0.01f && p.z() > 0.55f && p.z() < 0.7f;
     if (handle) return {0.75f, 0.72f, 0.6f};
-    return Vec3(0.28f, 0.36f, 0.44f) * ((seam ? 0.4f : 1.0f) * (0.95f + 0.1f * value_noise(p.y() * 40, p.z() * 40, s + 80)));
+    return Vec3(0.28f, 0.36f, 0.44f) *
+           ((seam ? 0.4f : 1.0f) * (0.95f + 0.1f * value_noise(p.y() * 40, p.z() * 40, s + 80)));
   };
   boxes_.push_back(b.add_box({-2.5f, -0.5f, 0.0f}, {-2.1f, 1.0f, 0.9f},
-                             face_bit(0, 1) | face_bit(1, 0) | face_bit(1, 1) | face_bit(2, 1), 0.01f,
-                             0.1f, cabinet));
+                             face_bit(0, 1) | face_bit(1, 0) | face_bit(1, 1) | face_bit(2, 1),
+                             0.01f, 0.1f, cabinet));
   const AlbedoFn fabric = [s](const Vec3& p) -> Vec3 {
     const float weave = 0.8f + 0.25f * value_noise(p.x() * 200, (p.y() + p.z()) * 200, s + 90) +
                         0.1f * fbm(p.x() * 5, (p.y() + p.z()) * 5, s + 91, 2);
     return Vec3(0.60f, 0.44f, 0.14f) * weave;
   };
   boxes_.push_back(b.add_box({-1.0f, -2.5f, 0.0f}, {1.0f, -1.75f, 0.45f},
-                             face_bit(0, 0) | face_bit(0, 1) | face_bit(1, 1) | face_bit(2, 1), 0.01f,
-                             0.1f, fabric));
+                             face_bit(0, 0) | face_bit(0, 1) | face_bit(1, 1) | face_bit(2, 1),
+                             0.01f, 0.1f, fabric));
   boxes_.push_back(b.add_box({-1.0f, -2.5f, 0.45f}, {1.0f, -2.3f, 0.85f},
-                             face_bit(0, 0) | face_bit(0, 1) | face_bit(1, 1) | face_bit(2, 1), 0.01f,
-                             0.1f, fabric));
+                             face_bit(0, 0) | face_bit(0, 1) | face_bit(1, 1) | face_bit(2, 1),
+                             0.01f, 0.1f, fabric));
 
   // A mirror ball right of the anchor: reflections for the light estimate, no depth.
   spheres_.push_back({{0.45f, ay + 0.15f, top + 0.07f}, 0.07f, Vec3(0.85f, 0.85f, 0.86f)});
@@ -377,7 +406,9 @@ bool occluded(const Ray& r, const SimWorld& w, float t_max) {
   return false;
 }
 
-float luminance(const Vec3& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
+float luminance(const Vec3& c) {
+  return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+}
 
 // The lighting grid of one patch: per light, the irradiance at each node (cell centres).
 struct LightGrid {
@@ -410,7 +441,8 @@ struct LightGrid {
             }
           }
           if (n == 0) continue;
-          for (std::size_t l = 0; l < irradiance.size(); ++l) irradiance[l][k] = sum[l] / static_cast<float>(n);
+          for (std::size_t l = 0; l < irradiance.size(); ++l)
+            irradiance[l][k] = sum[l] / static_cast<float>(n);
           ao[k] = ao_sum / n;
           next[k] = 0;
           changed = true;
@@ -426,11 +458,13 @@ struct LightGrid {
     const Vec3 rel = x - p.origin;
     const float fu = std::clamp(rel.dot(p.u) / p.size_u * nu - 0.5f, 0.0f, nu - 1.0f);
     const float fv = std::clamp(rel.dot(p.v) / p.size_v * nv - 0.5f, 0.0f, nv - 1.0f);
-    const int i = std::min(static_cast<int>(fu), nu - 2), j = std::min(static_cast<int>(fv), nv - 2);
+    const int i = std::min(static_cast<int>(fu), nu - 2),
+              j = std::min(static_cast<int>(fv), nv - 2);
     const float a = fu - i, b = fv - j;
     const auto& e = irradiance[light];
     const auto at = [&](int ii, int jj) { return e[static_cast<std::size_t>(jj) * nu + ii]; };
-    return (1 - b) * ((1 - a) * at(i, j) + a * at(i + 1, j)) + b * ((1 - a) * at(i, j + 1) + a * at(i + 1, j + 1));
+    return (1 - b) * ((1 - a) * at(i, j) + a * at(i + 1, j)) +
+           b * ((1 - a) * at(i, j + 1) + a * at(i + 1, j + 1));
   }
 };
 
@@ -457,7 +491,8 @@ void SimWorld::bake_lighting(const WorldBuilder& builder) {
     const float spacing = specs[pi].light_spacing;
     g.nu = std::max(2, static_cast<int>(std::ceil(p.size_u / spacing)));
     g.nv = std::max(2, static_cast<int>(std::ceil(p.size_v / spacing)));
-    g.irradiance.assign(n_lights, std::vector<Vec3>(static_cast<std::size_t>(g.nu) * g.nv, Vec3::Zero()));
+    g.irradiance.assign(n_lights,
+                        std::vector<Vec3>(static_cast<std::size_t>(g.nu) * g.nv, Vec3::Zero()));
     g.ao.assign(static_cast<std::size_t>(g.nu) * g.nv, 1.0f);
     g.hidden.assign(g.ao.size(), 0);
   }
@@ -497,8 +532,9 @@ void SimWorld::bake_lighting(const WorldBuilder& builder) {
           const float cos_x = p.normal.dot(dir), cos_l = -l.normal.dot(dir);
           if (cos_x <= 0 || cos_l <= 0) continue;
           if (occluded(Ray(origin, to), *this, 0.999f)) continue;
-          const Vec3 radiance = l.is_window ? (in_window_glass(q) ? sky_radiance(q, seed_) : Vec3::Zero())
-                                            : l.radiance;
+          const Vec3 radiance = l.is_window
+                                    ? (in_window_glass(q) ? sky_radiance(q, seed_) : Vec3::Zero())
+                                    : l.radiance;
           e += radiance * (cos_x * cos_l / r2);
         }
         g.irradiance[li][k] = e * (area / (kLightSamples * kLightSamples));
@@ -511,7 +547,8 @@ void SimWorld::bake_lighting(const WorldBuilder& builder) {
         const float e1 = ((s % kAoSamples) + uniform01(h)) / kAoSamples;
         const float e2 = ((s / kAoSamples) + uniform01(mix64(h))) / kAoSamples;
         const float rr = std::sqrt(e1), phi = 2 * kPi * e2;
-        const Vec3 d = rr * std::cos(phi) * p.u + rr * std::sin(phi) * p.v + std::sqrt(1 - e1) * p.normal;
+        const Vec3 d =
+            rr * std::cos(phi) * p.u + rr * std::sin(phi) * p.v + std::sqrt(1 - e1) * p.normal;
         const Hit hit = trace(Ray(origin, d), *this, static_prims_, nullptr);
         open += std::min(1.0f, hit.t / kAoDistance);
       }
@@ -549,7 +586,8 @@ void SimWorld::bake_lighting(const WorldBuilder& builder) {
     ambient_[state] = Vec3::Zero();
     for (int li = 0; li < n_lights; ++li) {
       const AreaLight& l = lights_[li];
-      if (l.switch_bit < 0 || ((state >> l.switch_bit) & 1)) ambient_[state] += kPi * ambient_radiance[li];
+      if (l.switch_bit < 0 || ((state >> l.switch_bit) & 1))
+        ambient_[state] += kPi * ambient_radiance[li];
     }
   }
   for (std::size_t pi = 0; pi < patches_.size(); ++pi) {
@@ -642,8 +680,8 @@ Pose SimWorld::rig_pose(TrajectoryKind kind, double t) const {
     const Eigen::Vector3d shift(wave(0.008, 0.23, 0) + wave(0.003, 1.3, 1) + wave(0.0006, 8.7, 2),
                                 wave(0.006, 0.17, 3) + wave(0.002, 1.1, 4),
                                 wave(0.005, 0.31, 5) + wave(0.002, 1.7, 6) + wave(0.0005, 7.9, 7));
-    const Eigen::Vector3d angles(wave(0.008, 0.9, 8) + wave(0.0015, 5.3, 9),
-                                 wave(0.006, 0.7, 10), wave(0.009, 1.2, 11) + wave(0.001, 6.1, 0));
+    const Eigen::Vector3d angles(wave(0.008, 0.9, 8) + wave(0.0015, 5.3, 9), wave(0.006, 0.7, 10),
+                                 wave(0.009, 1.2, 11) + wave(0.001, 6.1, 0));
     const Eigen::Quaterniond shake = Eigen::AngleAxisd(angles.z(), Eigen::Vector3d::UnitZ()) *
                                      Eigen::AngleAxisd(angles.x(), Eigen::Vector3d::UnitX()) *
                                      Eigen::AngleAxisd(angles.y(), Eigen::Vector3d::UnitY());
@@ -662,7 +700,8 @@ Occluder SimWorld::occluder(double t, const Eigen::Vector3d& camera_centre) cons
   Eigen::Vector3d back(to_camera.x(), to_camera.y(), 0.0);
   if (back.norm() < 1e-6) back = Eigen::Vector3d::UnitY();
   back.normalize();
-  const Eigen::Vector3d right = Eigen::Vector3d::UnitZ().cross(back);  // right, seen from the camera
+  const Eigen::Vector3d right =
+      Eigen::Vector3d::UnitZ().cross(back);  // right, seen from the camera
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d middle = target + 0.45 * to_camera;
 
@@ -684,8 +723,14 @@ Occluder SimWorld::occluder(double t, const Eigen::Vector3d& camera_centre) cons
   return o;
 }
 
-Eigen::Vector3d object_anchor() { return kAnchor; }
-double table_top_height_m() { return kTableTop; }
-Eigen::Vector3d light_probe_position() { return kAnchor + Eigen::Vector3d(0, 0, 0.1); }
+Eigen::Vector3d object_anchor() {
+  return kAnchor;
+}
+double table_top_height_m() {
+  return kTableTop;
+}
+Eigen::Vector3d light_probe_position() {
+  return kAnchor + Eigen::Vector3d(0, 0, 0.1);
+}
 
 }  // namespace probeless::sim

@@ -71,7 +71,8 @@ TEST(DepthNoise, VarianceOverNearbyPlanesIsTheModels) {
     double ratio = 0;
     int planes = 0;
     for (int k = -10; k <= 10; ++k, ++planes) {
-      const DepthImage clean(160, 120, static_cast<std::uint16_t>(std::lround((z0 + 0.0013 * k) * 1000)));
+      const DepthImage clean(160, 120,
+                             static_cast<std::uint16_t>(std::lround((z0 + 0.0013 * k) * 1000)));
       double sum = 0, sum_sq = 0;
       int n = 0;
       for (int seed = 0; seed < 3; ++seed) {

@@ -15,7 +15,9 @@ namespace {
 
 using std::chrono::milliseconds;
 
-Rig open(const std::string& spec) { return make_sim_rig(parse_sim_options(spec)); }
+Rig open(const std::string& spec) {
+  return make_sim_rig(parse_sim_options(spec));
+}
 
 RgbdFrame read_rgbd(Rig& rig) {
   RgbdFrame f;
@@ -151,7 +153,8 @@ TEST(SimRig, ArmPassesInFrontOfTheAnchorPeriodically) {
     const Pose cam = *f.truth->rig_pose * rig.calibration.T_rig_rgb;
     const auto px = rig.calibration.rgb.project(cam.inverse() * light_probe_position());
     ASSERT_TRUE(px && rig.calibration.rgb.in_image(*px));
-    const bool hidden = f.truth->occluder_mask.at(static_cast<int>(px->x()), static_cast<int>(px->y())) == 255;
+    const bool hidden =
+        f.truth->occluder_mask.at(static_cast<int>(px->x()), static_cast<int>(px->y())) == 255;
     (hidden ? covered : clear)++;
   }
   EXPECT_GE(covered, 4);
@@ -266,7 +269,8 @@ TEST(SimRig, StallSaysNoSignalThenResumes) {
   // Three frames at 100 fps: the stall lasts 30 ms of wall-clock time.
   const auto start = std::chrono::steady_clock::now();
   ReadResult r;
-  while ((r = rig.rgbd->read(f, milliseconds(5))) == ReadResult::NoFrameYet) {}
+  while ((r = rig.rgbd->read(f, milliseconds(5))) == ReadResult::NoFrameYet) {
+  }
   EXPECT_GE(std::chrono::steady_clock::now() - start, milliseconds(20));
   ASSERT_EQ(r, ReadResult::Frame);
   EXPECT_EQ(f.sequence, 5u);
