@@ -61,11 +61,12 @@ struct Occluder {
   std::array<Capsule, 3> capsules;
 };
 
-// A rectangular emitter: centre +- u_half +- v_half, emitting `radiance` towards `normal`.
+// A rectangular emitter: centre +- u_half +- v_half, emitting towards `normal`; `radiance` is
+// its mean (the lighting bake samples the emission of the patch it lies on instead).
 struct AreaLight {
   Eigen::Vector3f centre, u_half, v_half, normal, radiance;
   int switch_bit = -1;  // -1: always on; else on when this bit of the lamp state is set
-  bool is_window = false;
+  int patch = -1;       // the patch it is part of (ceiling, back wall)
 };
 
 class WorldBuilder;
