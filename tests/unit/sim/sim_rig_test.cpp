@@ -243,6 +243,20 @@ TEST(SimRig, FisheyeTakesTheExposureItIsTold) {
   EXPECT_GT(saturated, 0) << "the window saturates at 4 ms";
 }
 
+TEST(SimRig, FisheyeEightBitHasItsOwnBlackAndWhite) {
+  Rig rig = open("realtime=0,trajectory=static,fisheye_bits=8,fisheye_size=128");
+  ExposureStamp e;
+  e.exposure = {0.02, 12.0};  // long enough to saturate the window and the lamps
+  rig.fisheye->set_next_exposure(e);
+  const FisheyeFrame f = read_fisheye(rig);
+  EXPECT_EQ(f.bit_depth, 8);
+  EXPECT_EQ(f.black_level, 16);
+  EXPECT_EQ(f.raw.width(), 128);
+  const auto [lo, hi] = std::minmax_element(f.raw.elements().begin(), f.raw.elements().end());
+  EXPECT_EQ(*hi, 255) << "saturated";
+  EXPECT_LT(*lo, 24) << "outside the image circle: black level and read noise";
+}
+
 TEST(SimRig, EndsAfterMaxFrames) {
   Rig rig = open("realtime=0,frames=3,fps=30,fisheye_fps=20,truth=0");
   RgbdFrame f;
