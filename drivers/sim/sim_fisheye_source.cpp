@@ -8,10 +8,10 @@ namespace probeless::sim {
 
 namespace {
 
-// A linear raw sensor (docs/sim.md "Fisheye"). At 12 bit: black level 256, and full scale
+// A linear raw sensor (docs/sim.md "The fisheye"). At 12 bit: black level 256, and full scale
 // (4095 - 256 DN at unit gain) holds 10000 electrons. Sensitivity: DN above black per unit
-// scene radiance per second of exposure at 0 dB, chosen so that a lamp-lit wall sits near
-// mid-scale at 10 ms and the window needs about 1/100 of that.
+// scene radiance per second of exposure at 0 dB, chosen so that a lamp-lit wall reads about a
+// third of full scale at 10 ms and the window needs about 1/50 of that exposure.
 struct SensorModel {
   double black;
   double white;
