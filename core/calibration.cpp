@@ -216,6 +216,35 @@ std::string pose_text(const Pose& p) {
          ", rotation_xyzw = " + array_text(xyzw, 4) + "}";
 }
 
+// The body of the [fisheye] table: a file reference, or the model's parameters inline.
+std::string fisheye_table(const RigCalibration& c) {
+  std::ostringstream out;
+  if (!c.fisheye_file.empty()) {
+    out << "model = \"ocam\"\nfile = " << toml::value<std::string>(c.fisheye_file) << "\n";
+  } else if (const auto* kb = dynamic_cast<const KannalaBrandtCamera*>(c.fisheye.get())) {
+    const KannalaBrandtParams& p = kb->params();
+    out << "model = \"kannala_brandt\"\n"
+        << "width = " << p.width << "\nheight = " << p.height << "\n"
+        << "fx = " << number_text(p.fx) << "\nfy = " << number_text(p.fy) << "\n"
+        << "cx = " << number_text(p.cx) << "\ncy = " << number_text(p.cy) << "\n"
+        << "k = " << array_text(p.k.data(), p.k.size()) << "\n"
+        << "max_theta = " << number_text(p.max_theta) << "\n";
+  } else if (const auto* oc = dynamic_cast<const OCamCamera*>(c.fisheye.get())) {
+    const OCamParams& p = oc->params();
+    out << "model = \"ocam\"\n"
+        << "width = " << p.width << "\nheight = " << p.height << "\n"
+        << "pol = " << array_text(p.pol.data(), p.pol.size()) << "\n"
+        << "invpol = " << array_text(p.invpol.data(), p.invpol.size()) << "\n"
+        << "xc = " << number_text(p.xc) << "  # row\nyc = " << number_text(p.yc) << "  # column\n"
+        << "c = " << number_text(p.c) << "\nd = " << number_text(p.d)
+        << "\ne = " << number_text(p.e) << "\n";
+  } else {
+    throw std::invalid_argument(
+        "to_toml: the fisheye must be a Kannala-Brandt or OCam model, or name a file");
+  }
+  return out.str();
+}
+
 }  // namespace
 
 RigCalibration parse_rig_calibration(std::string_view toml_text, std::string_view source_name) {
@@ -231,15 +260,19 @@ RigCalibration parse_rig_calibration(std::string_view toml_text, std::string_vie
   RigCalibration c;
   c.rgb = read_rgb(r, root);
 
-  const toml::table& fisheye = r.table(root, "the top level", "fisheye");
-  const std::string model = r.string(fisheye, "[fisheye]", "model");
-  if (model == "kannala_brandt") {
-    c.fisheye = read_kannala_brandt(r, fisheye);
-  } else if (model == "ocam") {
-    c.fisheye = read_ocam(r, fisheye, c.fisheye_file);
-  } else {
-    r.fail(fisheye.get("model"),
-           "model: expected \"kannala_brandt\" or \"ocam\", got \"" + model + "\"");
+  // [fisheye] is optional: an RGB-D-only rig (a TUM sequence, a recording of one) has none,
+  // and its fisheye pointer stays null. With the table present, the model is required.
+  if (root.contains("fisheye")) {
+    const toml::table& fisheye = r.table(root, "the top level", "fisheye");
+    const std::string model = r.string(fisheye, "[fisheye]", "model");
+    if (model == "kannala_brandt") {
+      c.fisheye = read_kannala_brandt(r, fisheye);
+    } else if (model == "ocam") {
+      c.fisheye = read_ocam(r, fisheye, c.fisheye_file);
+    } else {
+      r.fail(fisheye.get("model"),
+             "model: expected \"kannala_brandt\" or \"ocam\", got \"" + model + "\"");
+    }
   }
 
   const toml::table& ex = r.table(root, "the top level", "extrinsics");
@@ -266,30 +299,8 @@ std::string to_toml(const RigCalibration& c) {
         << "p1 = " << number_text(d.p1) << "\np2 = " << number_text(d.p2) << "\n"
         << "k3 = " << number_text(d.k3) << "\n";
 
-  out << "\n[fisheye]\n";
-  if (!c.fisheye_file.empty()) {
-    out << "model = \"ocam\"\nfile = " << toml::value<std::string>(c.fisheye_file) << "\n";
-  } else if (const auto* kb = dynamic_cast<const KannalaBrandtCamera*>(c.fisheye.get())) {
-    const KannalaBrandtParams& p = kb->params();
-    out << "model = \"kannala_brandt\"\n"
-        << "width = " << p.width << "\nheight = " << p.height << "\n"
-        << "fx = " << number_text(p.fx) << "\nfy = " << number_text(p.fy) << "\n"
-        << "cx = " << number_text(p.cx) << "\ncy = " << number_text(p.cy) << "\n"
-        << "k = " << array_text(p.k.data(), p.k.size()) << "\n"
-        << "max_theta = " << number_text(p.max_theta) << "\n";
-  } else if (const auto* oc = dynamic_cast<const OCamCamera*>(c.fisheye.get())) {
-    const OCamParams& p = oc->params();
-    out << "model = \"ocam\"\n"
-        << "width = " << p.width << "\nheight = " << p.height << "\n"
-        << "pol = " << array_text(p.pol.data(), p.pol.size()) << "\n"
-        << "invpol = " << array_text(p.invpol.data(), p.invpol.size()) << "\n"
-        << "xc = " << number_text(p.xc) << "  # row\nyc = " << number_text(p.yc) << "  # column\n"
-        << "c = " << number_text(p.c) << "\nd = " << number_text(p.d)
-        << "\ne = " << number_text(p.e) << "\n";
-  } else {
-    throw std::invalid_argument(
-        "to_toml: the fisheye must be a Kannala-Brandt or OCam model, or name a file");
-  }
+  // An RGB-D-only rig (no fisheye, no file) has no [fisheye] table; parsing accepts that.
+  if (c.fisheye || !c.fisheye_file.empty()) out << "\n[fisheye]\n" << fisheye_table(c);
 
   out << "\n[extrinsics]\n"
       << "T_rig_rgb = " << pose_text(c.T_rig_rgb) << "\n"

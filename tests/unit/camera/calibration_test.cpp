@@ -118,9 +118,15 @@ TEST(RigCalibration, RoundTripsThroughToToml) {
   EXPECT_EQ(fb.fisheye, nullptr);
   EXPECT_EQ(fb.fisheye_file, f.fisheye_file);
 
+  // An RGB-D-only rig (a TUM sequence) has no [fisheye] table and reads back without one.
   RigCalibration none = d;
   none.fisheye = nullptr;
-  EXPECT_THROW(to_toml(none), std::invalid_argument);
+  const std::string none_text = to_toml(none);
+  EXPECT_EQ(none_text.find("[fisheye]"), std::string::npos) << none_text;
+  const RigCalibration none_back = parse_rig_calibration(none_text, "written");
+  expect_same(none, none_back);
+  EXPECT_EQ(none_back.fisheye, nullptr);
+  EXPECT_TRUE(none_back.fisheye_file.empty());
 }
 
 TEST(RigCalibration, InlineOcamAndDefaults) {
@@ -197,6 +203,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"MisspeltTable", "[fisheye]", "[fishy]", 17, "unknown key 'fishy'"},
         BadCase{"NegativeBaseline", "depth_baseline_m = 0.075", "depth_baseline_m = -1", 31,
                 "depth_baseline_m must be positive"},
+        BadCase{"FisheyeWithoutModel", "model = \"kannala_brandt\"\n", "", 17,
+                "missing key 'model' in [fisheye]"},
         BadCase{"FileAndParams", "model = \"kannala_brandt\"",
                 "model = \"ocam\"\nfile = \"calib.txt\"", 24,
                 "unknown key 'cx' in [fisheye] (ocam) with a file"}),

@@ -12,6 +12,7 @@
 #include "drivers/rig_factory.hpp"
 #include "recording_fixture.hpp"
 #include "support/test_data.hpp"
+#include "tum_fixture.hpp"
 
 namespace probeless::replay {
 namespace {
@@ -96,6 +97,26 @@ TEST(RecordCommand, RefusesNonEmptyDirectoryUnlessForced) {
   const auto rec = Recording::open(base / "existing");
   EXPECT_EQ(rec->rgbd().size(), 2u);  // the source's end, no --frames
   EXPECT_FALSE(rec->rgbd()[0].truth.present);
+}
+
+// A TUM sequence has no fisheye: the recording holds RGB-D frames and a calibration without
+// a [fisheye] table, and replays with no fisheye source.
+TEST(RecordCommand, RecordsATumSequenceWithoutFisheye) {
+  REQUIRE_BINARY();
+  const TumFixture tum = make_tum_sequence();
+  const fs::path out = testing::scratch_dir() / "from_tum";
+  const RunResult r = run_probeless("record --source 'tum:" + tum.dir.string() +
+                                    "?realtime=0' '" + out.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+
+  Rig copy = open_replay_rig(out, PlaybackOptions{false, false, false});
+  EXPECT_EQ(copy.fisheye, nullptr);
+  EXPECT_EQ(copy.calibration.fisheye, nullptr);
+  const auto rgbd = read_all<RgbdFrame>(*copy.rgbd);
+  ASSERT_EQ(rgbd.size(), 3u);  // the three associated pairs
+  for (std::size_t i = 0; i < rgbd.size(); ++i) {
+    EXPECT_EQ(rgbd[i].color, tum.color[i]) << i;
+  }
 }
 
 TEST(RecordCommand, BadSourceIsAnError) {

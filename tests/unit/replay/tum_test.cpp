@@ -7,27 +7,24 @@
 #include "drivers/io/png.hpp"
 #include "drivers/replay/tum_source.hpp"
 #include "support/test_data.hpp"
+#include "tum_fixture.hpp"
 
 namespace probeless::replay {
-namespace {
 
 namespace fs = std::filesystem;
+
+namespace {
 using namespace std::chrono_literals;
 
 void write_text(const fs::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary | std::ios::trunc);
   out << text;
 }
+}  // namespace
 
 // A TUM-layout sequence as the benchmark ships it, tiny: 4 colour and 4 depth images whose
 // timestamps interleave as in freiburg1 (depth a few ms off colour), one depth too far away.
-struct TumFixture {
-  fs::path dir;
-  std::vector<DepthImage> depth;
-  std::vector<ImageRGB8> color;
-};
-
-TumFixture make_tum_sequence(bool with_groundtruth = true) {
+TumFixture make_tum_sequence(bool with_groundtruth) {
   TumFixture fx;
   fx.dir = testing::scratch_dir() / "rgbd_dataset_freiburg1_tiny";
   fs::create_directories(fx.dir / "rgb");
@@ -37,12 +34,15 @@ TumFixture make_tum_sequence(bool with_groundtruth = true) {
   // Each depth 3-15 ms from its colour image; the last is 21.7 ms from any (unpaired).
   const char* depth_times[] = {"1305031102.160407", "1305031102.200000", "1305031102.240000",
                                "1305031102.297000"};
-  std::string rgb_txt = "# color images\n# file: 'rgbd_dataset_freiburg1_tiny.bag'\n# timestamp filename\n";
-  std::string depth_txt = "# depth maps\n# file: 'rgbd_dataset_freiburg1_tiny.bag'\n# timestamp filename\n";
+  std::string rgb_txt =
+      "# color images\n# file: 'rgbd_dataset_freiburg1_tiny.bag'\n# timestamp filename\n";
+  std::string depth_txt =
+      "# depth maps\n# file: 'rgbd_dataset_freiburg1_tiny.bag'\n# timestamp filename\n";
   for (int i = 0; i < 4; ++i) {
     ImageRGB8 c(8, 6, static_cast<std::uint8_t>(10 * i));
     DepthImage d(8, 6);
-    for (int k = 0; k < 48; ++k) d.elements()[static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(k * 1000 + i);
+    for (int k = 0; k < 48; ++k)
+      d.elements()[static_cast<std::size_t>(k)] = static_cast<std::uint16_t>(k * 1000 + i);
     d.at(0, 0) = 0;      // no depth stays 0
     d.at(1, 0) = 5000;   // 1 m
     d.at(2, 0) = 65535;  // 13.107 m
@@ -69,6 +69,8 @@ TumFixture make_tum_sequence(bool with_groundtruth = true) {
   return fx;
 }
 
+namespace {
+
 TEST(Tum, AssociatesLikeAssociatePy) {
   // Greedy on the smallest difference; each image once; strictly under 20 ms.
   const std::vector<TimestampNs> a = {100'000'000, 110'000'000, 200'000'000, 300'000'000};
@@ -91,7 +93,8 @@ TEST(Tum, ParsesAssociatesAndConvertsDepth) {
   EXPECT_EQ(seq.frames[2].color, "rgb/1305031102.243211.png");
   EXPECT_EQ(seq.frames[2].depth, "depth/1305031102.240000.png");
   // Default intrinsics.
-  EXPECT_EQ(seq.calibration.rgb.intrinsics(), (PinholeIntrinsics{640, 480, 525, 525, 319.5, 239.5}));
+  EXPECT_EQ(seq.calibration.rgb.intrinsics(),
+            (PinholeIntrinsics{640, 480, 525, 525, 319.5, 239.5}));
   EXPECT_EQ(seq.calibration.fisheye, nullptr);
 
   Rig rig = open_tum_rig(fx.dir, PlaybackOptions{false, false, false});
@@ -125,7 +128,8 @@ TEST(Tum, WithoutGroundTruthFramesHaveNoTruth) {
   EXPECT_EQ(f.truth, nullptr);
 }
 
-void expect_parse_error(const fs::path& dir, const fs::path& file, int line, const std::string& fragment) {
+void expect_parse_error(const fs::path& dir, const fs::path& file, int line,
+                        const std::string& fragment) {
   try {
     (void)open_tum_sequence(dir);
     ADD_FAILURE() << "accepted a malformed sequence";
@@ -153,7 +157,8 @@ TEST(Tum, MalformedLinesNameFileAndLine) {
   write_text(fx.dir / "rgb.txt", good_rgb);
   write_text(fx.dir / "groundtruth.txt", "# t\n1305031102.1 1 2 3 0 0 0\n");
   expect_parse_error(fx.dir, fx.dir / "groundtruth.txt", 2, "expected 8 fields");
-  write_text(fx.dir / "groundtruth.txt", "1305031102.1 1 2 3 0 0 0 1\n1305031102.1 1 2 3 0 0 0 1\n");
+  write_text(fx.dir / "groundtruth.txt",
+             "1305031102.1 1 2 3 0 0 0 1\n1305031102.1 1 2 3 0 0 0 1\n");
   expect_parse_error(fx.dir, fx.dir / "groundtruth.txt", 2, "duplicate timestamp");
   fs::remove(fx.dir / "depth.txt");
   expect_parse_error(fx.dir, fx.dir / "depth.txt", 0, "cannot open");
