@@ -18,6 +18,9 @@ struct TimingSummary {
 
 // p50/p99 by nearest rank over a copy of the samples (a window of a few hundred: cheap).
 TimingSummary summarize(std::vector<double> samples_ms);
+// CPU time of the whole process (all threads) in ms: benchmarks divide it by frames, a figure
+// that moves less than wall-clock time when other work shares the cores.
+double process_cpu_ms();
 
 class StageStats {
  public:

@@ -39,7 +39,7 @@ SimFisheyeSource::SimFisheyeSource(std::shared_ptr<const SimWorld> world, const 
     : world_(std::move(world)),
       options_(options),
       geometry_(geometry),
-      pacer_(start_ns, options.fisheye_fps, options.realtime),
+      pacer_(start_ns, options.fisheye_fps, options.fisheye_realtime.value_or(options.realtime)),
       pool_(options.render_threads),
       renderer_(world_, *camera, &pool_),
       end_index_(options.max_frames < 0

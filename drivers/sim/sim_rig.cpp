@@ -101,6 +101,8 @@ SimOptions parse_sim_options(std::string_view spec) {
       o.fisheye_fps = parse_positive(key, value, 1000);
     } else if (key == "realtime") {
       o.realtime = parse_bool(key, value);
+    } else if (key == "fisheye_realtime") {
+      o.fisheye_realtime = parse_bool(key, value);
     } else if (key == "fisheye_size") {
       o.fisheye_size = parse_number<int>(key, value, "an integer");
       if (o.fisheye_size < 64 || o.fisheye_size > 1024) bad(key, value, "64..1024");
@@ -126,7 +128,8 @@ SimOptions parse_sim_options(std::string_view spec) {
       throw std::invalid_argument(
           "sim option '" + std::string(key) +
           "': unknown (known: seed, trajectory, fps, rgbd_fps, fisheye_fps, realtime, "
-          "fisheye_size, fisheye_bits, fisheye_fov, frames, stall, truth, threads)");
+          "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, frames, stall, truth, "
+          "threads)");
     }
   }
   return o;

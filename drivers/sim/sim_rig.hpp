@@ -4,6 +4,7 @@
 // service's default source and the one every pipeline test runs on.
 #include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <string_view>
 
 #include "drivers/source.hpp"
@@ -20,6 +21,11 @@ struct SimOptions {
   // skips frames a slow reader missed, as a camera would; false: as fast as the renderer goes
   // (bench, record, tests), every frame in order.
   bool realtime = true;
+  // The fisheye's own pacing; unset: as `realtime`. `realtime=0,fisheye_realtime=1` is how
+  // `bench pipeline` loads the machine as the appliance would: RGB-D as fast as it goes, the
+  // fisheye at its real rate (a free-running 512 px fisheye rendered ~200 frames/s beside the
+  // pipeline and took most of a core from it).
+  std::optional<bool> fisheye_realtime;
   int fisheye_size = 512;      // square image, 64..1024
   int fisheye_bit_depth = 12;  // 8 or 12
   double fisheye_fov_deg = 190;
@@ -34,7 +40,8 @@ struct SimOptions {
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
 // "sim:"); throws std::invalid_argument naming the bad key. Keys: seed, trajectory
-// (static|orbit|handheld), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_size,
+// (static|orbit|handheld), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_realtime,
+// fisheye_size,
 // fisheye_bits, fisheye_fov, frames (max_frames), stall (BEGIN:END), truth, threads.
 SimOptions parse_sim_options(std::string_view spec);
 

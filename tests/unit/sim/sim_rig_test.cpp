@@ -48,12 +48,15 @@ TEST(SimOptions, ParsesEveryKey) {
   EXPECT_EQ(o.fisheye_fov_deg, 185);
   EXPECT_FALSE(o.ground_truth);
   EXPECT_EQ(o.render_threads, 1);
+  EXPECT_FALSE(o.fisheye_realtime.has_value()) << "unset: follows realtime";
+  EXPECT_EQ(parse_sim_options("realtime=0,fisheye_realtime=1").fisheye_realtime, true);
+  EXPECT_EQ(parse_sim_options("seed=1").seed, 1u);
   EXPECT_EQ(parse_sim_options("").seed, SimOptions{}.seed);
 }
 
 TEST(SimOptions, ErrorsNameTheKey) {
   for (const char* spec : {"sed=3", "seed=x", "trajectory=spiral", "stall=5", "fisheye_bits=10",
-                           "fisheye_size=4096", "fps=-1", "realtime=maybe"}) {
+                           "fisheye_size=4096", "fps=-1", "realtime=maybe", "fisheye_realtime=2"}) {
     try {
       parse_sim_options(spec);
       ADD_FAILURE() << spec << " was accepted";
@@ -306,6 +309,22 @@ TEST(SimRig, RealtimePacesToTheClock) {
   EXPECT_EQ(f.sequence, 1u);
   EXPECT_EQ(f.timestamp_ns - first, 2'000'000'000);
   EXPECT_GE(monotonic_now_ns(), f.timestamp_ns) << "no frame before its time";
+}
+
+// bench pipeline's mode: RGB-D as fast as it renders, the fisheye paced at its own rate.
+TEST(SimRig, FisheyePacedWhileRgbdRunsFree) {
+  Rig rig = open("realtime=0,fisheye_realtime=1,fisheye_fps=0.5,truth=0");
+  FisheyeFrame fisheye;
+  ASSERT_EQ(rig.fisheye->read(fisheye, milliseconds(3000)), ReadResult::Frame);
+  const TimestampNs first = fisheye.timestamp_ns;
+  RgbdFrame rgbd;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(rig.rgbd->read(rgbd, milliseconds(0)), ReadResult::Frame) << "RGB-D is not paced";
+  }
+  if (monotonic_now_ns() - first < 1'000'000'000) {
+    EXPECT_EQ(rig.fisheye->read(fisheye, milliseconds(0)), ReadResult::NoFrameYet)
+        << "the next fisheye frame is two seconds away";
+  }
 }
 
 }  // namespace
