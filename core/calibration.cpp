@@ -11,91 +11,12 @@
 #include "core/camera/kannala_brandt.hpp"
 #include "core/camera/ocam.hpp"
 #include "core/error.hpp"
+#include "core/toml_reader.hpp"
 
 namespace probeless {
 namespace {
 
-// Typed access to a toml++ tree that turns every problem into a ParseError with the line of
-// the offending node (or of the table a key is missing from).
-class Reader {
- public:
-  explicit Reader(std::string source) : source_(std::move(source)) {}
-
-  [[noreturn]] void fail(const toml::node* node, const std::string& what) const {
-    throw ParseError(source_, node ? static_cast<int>(node->source().begin.line) : 0, what);
-  }
-
-  void only(const toml::table& table, const std::string& where,
-            std::initializer_list<std::string_view> known) const {
-    const std::set<std::string_view> allowed(known);
-    for (const auto& [key, node] : table)
-      if (!allowed.contains(key.str()))
-        fail(&node, "unknown key '" + std::string(key.str()) + "' in " + where);
-  }
-
-  const toml::node& require(const toml::table& table, const std::string& where,
-                            std::string_view key) const {
-    const toml::node* node = table.get(key);
-    if (!node) fail(&table, "missing key '" + std::string(key) + "' in " + where);
-    return *node;
-  }
-
-  const toml::table& table(const toml::table& parent, const std::string& where,
-                           std::string_view key) const {
-    const toml::node& node = require(parent, where, key);
-    if (!node.is_table()) fail(&node, std::string(key) + ": expected a table");
-    return *node.as_table();
-  }
-
-  double number(const toml::node& node, std::string_view key) const {
-    const auto v = node.value<double>();  // integers are accepted as numbers
-    if (!v || !std::isfinite(*v)) fail(&node, std::string(key) + ": expected a number");
-    return *v;
-  }
-  double number(const toml::table& t, const std::string& where, std::string_view key) const {
-    return number(require(t, where, key), key);
-  }
-  double number_or(const toml::table& t, std::string_view key, double fallback) const {
-    const toml::node* node = t.get(key);
-    return node ? number(*node, key) : fallback;
-  }
-
-  int positive_int(const toml::table& t, const std::string& where, std::string_view key) const {
-    const toml::node& node = require(t, where, key);
-    const auto v = node.value_exact<int64_t>();
-    if (!v || *v <= 0 || *v > (1 << 20))
-      fail(&node, std::string(key) + ": expected a positive integer");
-    return static_cast<int>(*v);
-  }
-
-  std::vector<double> numbers(const toml::node& node, std::string_view key, std::size_t min,
-                              std::size_t max) const {
-    const toml::array* arr = node.as_array();
-    if (!arr || arr->size() < min || arr->size() > max)
-      fail(&node, std::string(key) + ": expected an array of " +
-                      (min == max ? std::to_string(min)
-                                  : std::to_string(min) + " to " + std::to_string(max)) +
-                      " numbers");
-    std::vector<double> out;
-    for (const toml::node& item : *arr) out.push_back(number(item, key));
-    return out;
-  }
-  std::vector<double> numbers(const toml::table& t, const std::string& where, std::string_view key,
-                              std::size_t min, std::size_t max) const {
-    return numbers(require(t, where, key), key, min, max);
-  }
-
-  std::string string(const toml::table& t, const std::string& where, std::string_view key) const {
-    const toml::node& node = require(t, where, key);
-    if (!node.is_string()) fail(&node, std::string(key) + ": expected a string");
-    return node.as_string()->get();
-  }
-
- private:
-  std::string source_;
-};
-
-PinholeCamera read_rgb(const Reader& r, const toml::table& root) {
+PinholeCamera read_rgb(const TomlReader& r, const toml::table& root) {
   const toml::table& t = r.table(root, "the top level", "rgb");
   r.only(t, "[rgb]", {"width", "height", "fx", "fy", "cx", "cy", "distortion"});
   PinholeIntrinsics k;
@@ -121,7 +42,7 @@ PinholeCamera read_rgb(const Reader& r, const toml::table& root) {
   return PinholeCamera(k, d);
 }
 
-std::shared_ptr<const CameraModel> read_kannala_brandt(const Reader& r, const toml::table& t) {
+std::shared_ptr<const CameraModel> read_kannala_brandt(const TomlReader& r, const toml::table& t) {
   const std::string where = "[fisheye] (kannala_brandt)";
   r.only(t, where, {"model", "width", "height", "fx", "fy", "cx", "cy", "k", "max_theta"});
   KannalaBrandtParams p;
@@ -143,7 +64,7 @@ std::shared_ptr<const CameraModel> read_kannala_brandt(const Reader& r, const to
   }
 }
 
-std::shared_ptr<const CameraModel> read_ocam(const Reader& r, const toml::table& t,
+std::shared_ptr<const CameraModel> read_ocam(const TomlReader& r, const toml::table& t,
                                              std::string& file) {
   const std::string where = "[fisheye] (ocam)";
   if (const toml::node* f = t.get("file")) {
@@ -172,7 +93,7 @@ std::shared_ptr<const CameraModel> read_ocam(const Reader& r, const toml::table&
   }
 }
 
-Pose read_pose(const Reader& r, const toml::table& extrinsics, std::string_view key) {
+Pose read_pose(const TomlReader& r, const toml::table& extrinsics, std::string_view key) {
   const std::string where = "[extrinsics] " + std::string(key);
   const toml::node& node = r.require(extrinsics, "[extrinsics]", key);
   if (!node.is_table())
@@ -248,14 +169,8 @@ std::string fisheye_table(const RigCalibration& c) {
 }  // namespace
 
 RigCalibration parse_rig_calibration(std::string_view toml_text, std::string_view source_name) {
-  const std::string source(source_name);
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, source_name);
-  } catch (const toml::parse_error& e) {
-    throw ParseError(source, static_cast<int>(e.source().begin.line), std::string(e.description()));
-  }
-  const Reader r(source);
+  const TomlReader r{std::string(source_name)};
+  const toml::table root = r.parse(toml_text);
   r.only(root, "the top level", {"rgb", "fisheye", "extrinsics"});
   RigCalibration c;
   c.rgb = read_rgb(r, root);
