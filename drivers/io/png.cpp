@@ -54,18 +54,31 @@ struct FileCloser {
 };
 using UniqueFile = std::unique_ptr<std::FILE, FileCloser>;
 
-std::string errno_message(int err) { return std::generic_category().message(err); }
+std::string errno_message(int err) {
+  return std::generic_category().message(err);
+}
 
-class PngReadHandle {
+// libpng's read or write struct and its info struct, destroyed together.
+enum class PngDirection { Read, Write };
+template <PngDirection D>
+class PngHandle {
  public:
-  explicit PngReadHandle(PngErrorState* errors)
-      : png_(png_create_read_struct(PNG_LIBPNG_VER_STRING, errors, on_png_error,
-                                    on_png_warning)) {
+  explicit PngHandle(PngErrorState* errors) {
+    png_ =
+        D == PngDirection::Read
+            ? png_create_read_struct(PNG_LIBPNG_VER_STRING, errors, on_png_error, on_png_warning)
+            : png_create_write_struct(PNG_LIBPNG_VER_STRING, errors, on_png_error, on_png_warning);
     if (png_) info_ = png_create_info_struct(png_);
   }
-  ~PngReadHandle() { png_destroy_read_struct(&png_, &info_, nullptr); }
-  PngReadHandle(const PngReadHandle&) = delete;
-  PngReadHandle& operator=(const PngReadHandle&) = delete;
+  ~PngHandle() {
+    if constexpr (D == PngDirection::Read) {
+      png_destroy_read_struct(&png_, &info_, nullptr);
+    } else {
+      png_destroy_write_struct(&png_, &info_);
+    }
+  }
+  PngHandle(const PngHandle&) = delete;
+  PngHandle& operator=(const PngHandle&) = delete;
 
   bool valid() const { return png_ && info_; }
   png_structp png() const { return png_; }
@@ -75,26 +88,8 @@ class PngReadHandle {
   png_structp png_ = nullptr;
   png_infop info_ = nullptr;
 };
-
-class PngWriteHandle {
- public:
-  explicit PngWriteHandle(PngErrorState* errors)
-      : png_(png_create_write_struct(PNG_LIBPNG_VER_STRING, errors, on_png_error,
-                                     on_png_warning)) {
-    if (png_) info_ = png_create_info_struct(png_);
-  }
-  ~PngWriteHandle() { png_destroy_write_struct(&png_, &info_); }
-  PngWriteHandle(const PngWriteHandle&) = delete;
-  PngWriteHandle& operator=(const PngWriteHandle&) = delete;
-
-  bool valid() const { return png_ && info_; }
-  png_structp png() const { return png_; }
-  png_infop info() const { return info_; }
-
- private:
-  png_structp png_ = nullptr;
-  png_infop info_ = nullptr;
-};
+using PngReadHandle = PngHandle<PngDirection::Read>;
+using PngWriteHandle = PngHandle<PngDirection::Write>;
 
 // ---- reading ----------------------------------------------------------------------------
 
@@ -164,12 +159,23 @@ bool read_rows(png_structp png, png_infop info, png_bytepp rows) {
 std::string describe_layout(int bit_depth, int color_type) {
   const char* kind = "unknown colour type";
   switch (color_type) {
-    case PNG_COLOR_TYPE_GRAY: kind = "gray"; break;
-    case PNG_COLOR_TYPE_GRAY_ALPHA: kind = "gray+alpha"; break;
-    case PNG_COLOR_TYPE_RGB: kind = "RGB"; break;
-    case PNG_COLOR_TYPE_RGB_ALPHA: kind = "RGBA"; break;
-    case PNG_COLOR_TYPE_PALETTE: kind = "palette"; break;
-    default: break;
+    case PNG_COLOR_TYPE_GRAY:
+      kind = "gray";
+      break;
+    case PNG_COLOR_TYPE_GRAY_ALPHA:
+      kind = "gray+alpha";
+      break;
+    case PNG_COLOR_TYPE_RGB:
+      kind = "RGB";
+      break;
+    case PNG_COLOR_TYPE_RGB_ALPHA:
+      kind = "RGBA";
+      break;
+    case PNG_COLOR_TYPE_PALETTE:
+      kind = "palette";
+      break;
+    default:
+      break;
   }
   return std::to_string(bit_depth) + "-bit " + kind;
 }
@@ -208,9 +214,10 @@ ImageT read_png_as(const std::filesystem::path& path, ReadTarget target) {
     throw ImageFileError(path, "expected a 16-bit single-channel PNG, got " +
                                    describe_layout(original_depth, original_type));
   }
-  if (target == ReadTarget::RGB16 && (original_depth != 16 || original_type != PNG_COLOR_TYPE_RGB)) {
-    throw ImageFileError(path, "expected a 16-bit RGB PNG, got " +
-                                   describe_layout(original_depth, original_type));
+  if (target == ReadTarget::RGB16 &&
+      (original_depth != 16 || original_type != PNG_COLOR_TYPE_RGB)) {
+    throw ImageFileError(
+        path, "expected a 16-bit RGB PNG, got " + describe_layout(original_depth, original_type));
   }
   if (!set_transforms(handle.png(), handle.info(), target, &layout)) {
     throw ImageFileError(path, libpng_failure(errors));
@@ -269,10 +276,14 @@ bool write_image(png_structp png, png_infop info, std::FILE* file, const WriteSp
 template <typename ImageT>
 constexpr int color_type_for() {
   switch (ImageT::channels) {
-    case 1: return PNG_COLOR_TYPE_GRAY;
-    case 3: return PNG_COLOR_TYPE_RGB;
-    case 4: return PNG_COLOR_TYPE_RGB_ALPHA;
-    default: return -1;
+    case 1:
+      return PNG_COLOR_TYPE_GRAY;
+    case 3:
+      return PNG_COLOR_TYPE_RGB;
+    case 4:
+      return PNG_COLOR_TYPE_RGB_ALPHA;
+    default:
+      return -1;
   }
 }
 
@@ -396,8 +407,8 @@ std::vector<std::uint8_t> encode_png(const ImageRGB8& image) {
   const WriteSpec spec = write_spec(image);
   std::vector<png_bytep> rows = row_pointers(image);
   if (!write_image(handle.png(), handle.info(), nullptr, &spec, rows.data())) {
-    throw ImageFileError("<memory>", std::string("cannot encode PNG (libpng: ") + errors.message +
-                                         ")");
+    throw ImageFileError("<memory>",
+                         std::string("cannot encode PNG (libpng: ") + errors.message + ")");
   }
   return out;
 }
