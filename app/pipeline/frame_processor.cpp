@@ -39,12 +39,12 @@ CompositeFrame FrameProcessor::process(const RgbdFrame& frame, StageStats& stats
   for (auto& stage : stages_) {
     const auto t0 = std::chrono::steady_clock::now();
     stage->process(work_);
-    stats.record(stage->name(),
-                 std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                     .count());
+    stats.record(
+        stage->name(),
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
-  stats.record("frame", std::chrono::duration<double, std::milli>(
-                            std::chrono::steady_clock::now() - frame_start)
+  stats.record("frame", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                                  frame_start)
                             .count());
 
   CompositeFrame out;
@@ -52,8 +52,7 @@ CompositeFrame FrameProcessor::process(const RgbdFrame& frame, StageStats& stats
   out.timestamp_ns = frame.timestamp_ns;
   out.color = work_.composite_host;
   out.alpha = work_.alpha_host;
-  if (keep_matte_)
-    out.virtual_depth = std::make_shared<const ImageF>(work_.virtual_view.depth_mm);
+  if (keep_matte_) out.virtual_depth = std::make_shared<const ImageF>(work_.virtual_view.depth_mm);
   out.truth = frame.truth;
   work_.input = nullptr;
   return out;

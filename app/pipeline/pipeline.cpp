@@ -7,6 +7,7 @@
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/jpeg_encoder.hpp"
 #include "app/pipeline/frame_processor.hpp"
+#include "drivers/trigger/gpio_trigger.hpp"
 
 namespace probeless {
 namespace {
@@ -29,7 +30,9 @@ Pipeline::Pipeline(ServiceConfig config, Rig rig, PipelineOptions options)
   if (options_.lossless) stats_.keep_all(true);
 }
 
-Pipeline::~Pipeline() { stop(); }
+Pipeline::~Pipeline() {
+  stop();
+}
 
 void Pipeline::start() {
   started_ns_ = monotonic_now_ns();
@@ -46,6 +49,15 @@ void Pipeline::start() {
     files.format = parse_image_file_format(config_.output_format);
     files.write_matte = config_.output_matte;
     files_ = std::make_unique<FileOutput>(files);
+  }
+  if (rig_.fisheye && config_.bracket_enabled) {
+    bracket_ = std::make_unique<BracketSequencer>(config_.bracket);
+    if (!config_.trigger_chip.empty()) {
+      GpioTriggerConfig trigger;
+      trigger.chip = config_.trigger_chip;
+      trigger.line = static_cast<unsigned>(config_.trigger_line);
+      trigger_ = std::make_unique<GpioTrigger>(trigger);  // a missing chip fails start()
+    }
   }
   threads_.emplace_back([this](std::stop_token s) { capture_rgbd(s); });
   if (rig_.fisheye) threads_.emplace_back([this](std::stop_token s) { capture_fisheye(s); });
@@ -85,7 +97,9 @@ std::optional<std::string> Pipeline::fatal_error() const {
   return fatal_;
 }
 
-std::string Pipeline::url() const { return http_ ? http_->url() : std::string(); }
+std::string Pipeline::url() const {
+  return http_ ? http_->url() : std::string();
+}
 
 void Pipeline::fail(const std::string& what) {
   spdlog::error("pipeline: {}", what);
@@ -140,7 +154,12 @@ void Pipeline::capture_rgbd(std::stop_token stop) {
 
 void Pipeline::capture_fisheye(std::stop_token stop) {
   FisheyeSource& source = *rig_.fisheye;
+  bool armed = false;  // the next frame's exposure is set (and triggered) once per frame
   while (!stop.stop_requested()) {
+    if (bracket_ && !armed) {
+      start_next_frame(*bracket_, source, trigger_.get());
+      armed = true;
+    }
     FisheyeFrame frame;
     const auto t0 = std::chrono::steady_clock::now();
     const ReadResult r = source.read(frame, 100ms);
@@ -148,7 +167,23 @@ void Pipeline::capture_fisheye(std::stop_token stop) {
     if (r == ReadResult::Error) std::this_thread::sleep_for(100ms);
     if (r != ReadResult::Frame) continue;
     stats_.record("capture_fisheye", ms_since(t0));
+    if (bracket_) {
+      // Saturated and black counts steer L and H (docs/bracketing.md). On the CPU here: a
+      // 512 px frame takes well under a millisecond; the OpenCL reduction replaces it when
+      // the light stage keeps the frame on the device.
+      const auto t1 = std::chrono::steady_clock::now();
+      bracket_->observe(frame.exposure,
+                        count_exposure(frame.raw, frame.bit_depth, frame.black_level));
+      stats_.record("exposure_count", ms_since(t1));
+      armed = false;
+    }
     std::lock_guard lock(fisheye_mutex_);
+    if (bracket_) {
+      bracket_stops_[0] = bracket_->low_stop();
+      bracket_stops_[1] = bracket_->medium_stop();
+      bracket_stops_[2] = bracket_->high_stop();
+    }
+    fisheye_exposure_ = frame.exposure;
     ++fisheye_in_;
     fisheye_queue_.push_back(std::move(frame));
     if (fisheye_queue_.size() > kFisheyeQueue) {
@@ -231,8 +266,8 @@ void Pipeline::publish_no_signal(const std::string& state) {
     draw_no_signal(*color, rig_.rgbd->name(), state);
     f.color = std::move(color);
   } else {  // nothing good yet: a black frame of the camera's size says it all the same
-    auto color = std::make_shared<ImageRGB8>(rig_.calibration.rgb.width(),
-                                             rig_.calibration.rgb.height());
+    auto color =
+        std::make_shared<ImageRGB8>(rig_.calibration.rgb.width(), rig_.calibration.rgb.height());
     draw_no_signal(*color, rig_.rgbd->name(), state);
     f.color = std::move(color);
   }
@@ -277,10 +312,14 @@ nlohmann::json Pipeline::status() const {
     stages[name] = {{"p50_ms", s.p50_ms}, {"p99_ms", s.p99_ms}};
   nlohmann::json j;
   std::string state = "running";
-  if (fatal_error()) state = "failed";
-  else if (finished_) state = "finished";
-  else if (no_signal_) state = "no_signal";
-  else if (processed_ == 0) state = "starting";
+  if (fatal_error())
+    state = "failed";
+  else if (finished_)
+    state = "finished";
+  else if (no_signal_)
+    state = "no_signal";
+  else if (processed_ == 0)
+    state = "starting";
   j["state"] = state;
   j["fps"] = fps_.rate_hz(now);
   j["uptime_s"] = static_cast<double>(now - started_ns_) * 1e-9;
@@ -292,13 +331,25 @@ nlohmann::json Pipeline::status() const {
     std::lock_guard lock(fisheye_mutex_);
     j["frames"]["fisheye_in"] = fisheye_in_;
     j["frames"]["fisheye_dropped"] = fisheye_drops_;
+    if (fisheye_exposure_) {
+      const ExposureStamp& e = *fisheye_exposure_;
+      j["fisheye_exposure"] = {{"level", to_string(e.level)},
+                               {"time_ms", e.exposure.time_s * 1e3},
+                               {"gain_db", e.exposure.gain_db},
+                               {"cycle", e.cycle}};
+    }
+    if (bracket_)
+      j["bracket"] = {{"low_stop", bracket_stops_[0]},
+                      {"medium_stop", bracket_stops_[1]},
+                      {"high_stop", bracket_stops_[2]},
+                      {"trigger", trigger_ ? trigger_->name() : std::string("none")}};
   }
   j["stages"] = stages;
   nlohmann::json sources;
-  sources["rgbd"] = {{"name", rig_.rgbd->name()},
-                     {"state", no_signal_ ? std::string("no_signal")
-                                          : std::string(to_string(rig_.rgbd->state()))},
-                     {"last_error", rig_.rgbd->last_error()}};
+  sources["rgbd"] = {
+      {"name", rig_.rgbd->name()},
+      {"state", no_signal_ ? std::string("no_signal") : std::string(to_string(rig_.rgbd->state()))},
+      {"last_error", rig_.rgbd->last_error()}};
   if (rig_.fisheye)
     sources["fisheye"] = {{"name", rig_.fisheye->name()},
                           {"state", to_string(rig_.fisheye->state())},
@@ -312,7 +363,9 @@ nlohmann::json Pipeline::status() const {
   }
   if (files_) {
     const auto fs = files_->stats();
-    j["file_output"] = {{"written", fs.written}, {"dropped", fs.dropped}, {"failed", fs.failed},
+    j["file_output"] = {{"written", fs.written},
+                        {"dropped", fs.dropped},
+                        {"failed", fs.failed},
                         {"last_error", fs.last_error}};
   }
   return j;

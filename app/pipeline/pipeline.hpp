@@ -20,6 +20,7 @@
 #include "app/service/systemd_notifier.hpp"
 #include "core/frame.hpp"
 #include "drivers/source.hpp"
+#include "drivers/trigger/exposure_trigger.hpp"
 
 namespace probeless {
 
@@ -42,7 +43,7 @@ struct PipelineOptions {
   // benchmarks and tests that count frames. The service runs lossy (latest frame wins).
   bool lossless = false;
   bool keep_matte = false;
-  bool serve_http = true;  // from config unless false here (benchmarks)
+  bool serve_http = true;               // from config unless false here (benchmarks)
   SystemdNotifier* notifier = nullptr;  // WATCHDOG=1 from the processing loop when set
 };
 
@@ -100,6 +101,11 @@ class Pipeline {
   mutable std::mutex fisheye_mutex_;
   std::deque<FisheyeFrame> fisheye_queue_;  // keeps a whole bracket cycle (and then some)
   std::uint64_t fisheye_in_ = 0, fisheye_drops_ = 0, fisheye_used_ = 0;
+  std::optional<ExposureStamp> fisheye_exposure_;  // of the newest fisheye frame
+  // Driven from the fisheye capture thread only (status reads copies under fisheye_mutex_).
+  std::unique_ptr<BracketSequencer> bracket_;
+  std::unique_ptr<ExposureTrigger> trigger_;
+  int bracket_stops_[3] = {0, 0, 0};  // L, M, H relative to the initial exposure
 
   LatestFrame<CompositeFrame> output_;
   std::optional<CompositeFrame> last_good_;

@@ -40,7 +40,7 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
   const toml::table root = r.parse(text);
   ServiceConfig c;
   r.only(root, "the top level",
-         {"source", "object", "occlusion", "http", "output", "opencl", "pipeline"});
+         {"source", "object", "occlusion", "http", "output", "opencl", "pipeline", "bracket"});
   if (auto* t = r.optional_table(root, "source")) {
     r.only(*t, "[source]", {"rig"});
     r.get(*t, "rig", c.source);
@@ -77,6 +77,22 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
     r.only(*t, "[opencl]", {"platform", "device"});
     r.get(*t, "platform", c.cl_platform);
     r.get(*t, "device", c.cl_device);
+  }
+  if (auto* t = r.optional_table(root, "bracket")) {
+    r.only(*t, "[bracket]",
+           {"enabled", "mains_hz", "max_gain_db", "initial_exposure_ms", "gpio_chip", "gpio_line"});
+    r.get(*t, "enabled", c.bracket_enabled);
+    r.get(*t, "mains_hz", c.bracket.mains_hz);
+    r.get(*t, "max_gain_db", c.bracket.max_gain_db);
+    double initial_ms = c.bracket.initial_exposure * 1e3;
+    r.get(*t, "initial_exposure_ms", initial_ms);
+    c.bracket.initial_exposure = initial_ms * 1e-3;
+    r.get(*t, "gpio_chip", c.trigger_chip);
+    r.get(*t, "gpio_line", c.trigger_line);
+    if (c.bracket.mains_hz < 0) r.fail(t->get("mains_hz"), "mains_hz must be >= 0 (0: no limit)");
+    if (c.bracket.max_gain_db < 0) r.fail(t->get("max_gain_db"), "max_gain_db must be >= 0");
+    if (!(initial_ms > 0)) r.fail(t->get("initial_exposure_ms"), "must be positive");
+    if (c.trigger_line < 0) r.fail(t->get("gpio_line"), "gpio_line must be >= 0");
   }
   if (auto* t = r.optional_table(root, "pipeline")) {
     r.only(*t, "[pipeline]", {"frames", "no_signal_after_ms"});

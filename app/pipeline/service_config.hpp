@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "drivers/bracket/bracket_sequencer.hpp"
+
 namespace probeless {
 
 struct ObjectConfig {
@@ -31,12 +33,19 @@ struct ServiceConfig {
   int http_port = 8080;
   int jpeg_quality = 80;
 
-  std::string output_dir;            // empty: no file output
+  std::string output_dir;              // empty: no file output
   std::string output_format = "jpeg";  // "jpeg" or "png"
   bool output_matte = false;
 
   std::string cl_platform;  // substring match; empty: PROBELESS_CL_PLATFORM or the default
   std::string cl_device;
+
+  // [bracket]: the fisheye's L-M-H-M exposure cycle (docs/bracketing.md). Off: the fisheye
+  // keeps whatever exposure it has (a recording replays the exposures it was taken at).
+  bool bracket_enabled = true;
+  BracketConfig bracket;
+  std::string trigger_chip;  // GPIO chip of the exposure trigger; empty: free-running camera
+  int trigger_line = 0;
 
   std::int64_t max_frames = 0;  // 0 = run until stopped
   // A source that has delivered nothing for this long is "no signal": outputs show the last

@@ -12,7 +12,8 @@
 
 namespace probeless::testing {
 
-Subprocess::Subprocess(std::vector<std::string> argv, std::map<std::string, std::string> env) {
+Subprocess::Subprocess(std::vector<std::string> argv, std::map<std::string, std::string> env,
+                       bool merge_stderr) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
   std::vector<char*> args;
@@ -22,6 +23,7 @@ Subprocess::Subprocess(std::vector<std::string> argv, std::map<std::string, std:
   if (pid_ < 0) throw std::runtime_error("fork failed");
   if (pid_ == 0) {
     ::dup2(fds[1], STDOUT_FILENO);
+    if (merge_stderr) ::dup2(fds[1], STDERR_FILENO);
     for (const auto& [k, v] : env) ::setenv(k.c_str(), v.c_str(), 1);
     ::execv(args[0], args.data());
     ::_exit(127);

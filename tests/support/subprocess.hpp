@@ -14,7 +14,9 @@ namespace probeless::testing {
 class Subprocess {
  public:
   // argv[0] is the program path. `env` entries are added to (or replace) the environment.
-  Subprocess(std::vector<std::string> argv, std::map<std::string, std::string> env = {});
+  // With merge_stderr, the child's stderr (its log and error messages) joins stdout.
+  Subprocess(std::vector<std::string> argv, std::map<std::string, std::string> env = {},
+             bool merge_stderr = false);
   ~Subprocess();
   Subprocess(const Subprocess&) = delete;
   Subprocess& operator=(const Subprocess&) = delete;

@@ -45,7 +45,9 @@ int start_service(std::unique_ptr<Subprocess>& proc, std::vector<std::string> ex
   return std::stoi(m[1]);
 }
 
-nlohmann::json get_status(int port) { return nlohmann::json::parse(http_get(port, "/status").body); }
+nlohmann::json get_status(int port) {
+  return nlohmann::json::parse(http_get(port, "/status").body);
+}
 
 // Polls /status until `pred` holds or the timeout passes.
 template <typename Pred>
@@ -62,7 +64,8 @@ TEST(Service, ServesStreamSnapshotAndStatusThenStopsOnSigterm) {
   std::unique_ptr<Subprocess> proc;
   const int port = start_service(proc, {});
   ASSERT_GT(port, 0) << proc->output();
-  ASSERT_TRUE(wait_status(port, [](const auto& s) { return s["frames"]["out"] > 3; }, 90s));
+  ASSERT_TRUE(wait_status(
+      port, [](const auto& s) { return s["frames"]["out"] > 3; }, 90s));
 
   const auto status = get_status(port);
   EXPECT_EQ(status["state"], "running");
@@ -70,6 +73,16 @@ TEST(Service, ServesStreamSnapshotAndStatusThenStopsOnSigterm) {
   EXPECT_EQ(status["sources"]["rgbd"]["state"], "streaming");
   for (const char* stage : {"render", "occlusion", "composite", "encode"})
     EXPECT_TRUE(status["stages"].contains(stage)) << stage << " missing in " << status.dump();
+  // The fisheye runs the L-M-H-M bracket cycle (docs/bracketing.md), free-running on the sim.
+  ASSERT_TRUE(status.contains("bracket")) << status.dump();
+  EXPECT_EQ(status["bracket"]["trigger"], "none");
+  EXPECT_LT(status["bracket"]["low_stop"].get<int>(), status["bracket"]["high_stop"].get<int>());
+  ASSERT_TRUE(wait_status(
+      port,
+      [](const auto& s) {
+        return s.contains("fisheye_exposure") && s["fisheye_exposure"]["cycle"] >= 2;
+      },
+      60s));
 
   JpegDecoder decoder;
   MjpegReader stream(port);
@@ -84,8 +97,8 @@ TEST(Service, ServesStreamSnapshotAndStatusThenStopsOnSigterm) {
   }
   const auto snap = http_get(port, "/snapshot");
   EXPECT_EQ(snap.status, 200);
-  const ImageRGB8 img = decoder.decode(std::span(
-      reinterpret_cast<const std::uint8_t*>(snap.body.data()), snap.body.size()));
+  const ImageRGB8 img = decoder.decode(
+      std::span(reinterpret_cast<const std::uint8_t*>(snap.body.data()), snap.body.size()));
   EXPECT_EQ(img.width(), 640);
   const auto page = http_get(port, "/");
   EXPECT_NE(page.body.find("/stream"), std::string::npos);
@@ -138,8 +151,8 @@ TEST(Service, NotifiesSystemdReadyStatusAndWatchdog) {
   const std::filesystem::path dir = tmpl;
   NotifySocket sock(dir / "notify.sock");
   std::unique_ptr<Subprocess> proc;
-  const int port = start_service(proc, {}, {{"NOTIFY_SOCKET", (dir / "notify.sock").string()},
-                                            {"WATCHDOG_USEC", "400000"}});
+  const int port = start_service(
+      proc, {}, {{"NOTIFY_SOCKET", (dir / "notify.sock").string()}, {"WATCHDOG_USEC", "400000"}});
   ASSERT_GT(port, 0);
   std::set<std::string> seen;
   const auto deadline = std::chrono::steady_clock::now() + 90s;
@@ -166,7 +179,8 @@ TEST(Service, SourceStallShowsNoSignalThenRecovers) {
   std::unique_ptr<Subprocess> proc;
   const int port = start_service(proc, {"--source", "sim:stall=45:105"});
   ASSERT_GT(port, 0);
-  ASSERT_TRUE(wait_status(port, [](const auto& s) { return s["frames"]["out"] > 0; }, 90s));
+  ASSERT_TRUE(wait_status(
+      port, [](const auto& s) { return s["frames"]["out"] > 0; }, 90s));
   ASSERT_TRUE(wait_status(
       port,
       [](const auto& s) {
@@ -198,7 +212,8 @@ TEST(Service, WritesFramesAndMattesToADirectory) {
   int jpegs = 0, mattes = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir)) {
     const auto name = e.path().filename().string();
-    if (e.path().extension() == ".jpg") ++(name.find("matte") != std::string::npos ? mattes : jpegs);
+    if (e.path().extension() == ".jpg")
+      ++(name.find("matte") != std::string::npos ? mattes : jpegs);
     if (e.path().extension() == ".png" && name.find("matte") != std::string::npos) ++mattes;
   }
   // The writer may drop a frame when it falls behind (it never slows the pipeline), so
@@ -217,6 +232,14 @@ TEST(Service, BadConfigurationIsAClearErrorAndExitCode) {
   EXPECT_EQ(proc.wait(30s).value_or(-1), 1);
   Subprocess bad_source({binary(), "run", "--source", "nosuch:thing", "--port", "0"});
   EXPECT_EQ(bad_source.wait(30s).value_or(-1), 1);
+  // A trigger line on a GPIO chip that is not there stops the start with its name.
+  const auto gpio_cfg = dir / "gpio.toml";
+  f = std::fopen(gpio_cfg.c_str(), "w");
+  std::fputs("[bracket]\ngpio_chip = \"probeless-no-such-chip\"\n", f);
+  std::fclose(f);
+  Subprocess no_chip({binary(), "run", "--config", gpio_cfg.string(), "--port", "0"}, {}, true);
+  EXPECT_TRUE(no_chip.wait_for_line("probeless-no-such-chip", 60s).has_value()) << no_chip.output();
+  EXPECT_EQ(no_chip.wait(60s).value_or(-1), 1);
 }
 
 }  // namespace

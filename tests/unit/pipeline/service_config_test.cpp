@@ -1,6 +1,7 @@
+#include "app/pipeline/service_config.hpp"
+
 #include <gtest/gtest.h>
 
-#include "app/pipeline/service_config.hpp"
 #include "core/error.hpp"
 
 namespace probeless {
@@ -38,6 +39,12 @@ format = "png"
 matte = true
 [pipeline]
 frames = 42
+[bracket]
+mains_hz = 60
+max_gain_db = 12
+initial_exposure_ms = 2.5
+gpio_chip = "gpiochip1"
+gpio_line = 17
 )");
   EXPECT_EQ(c.source, "replay:/data/rec1");
   ASSERT_EQ(c.objects.size(), 2u);
@@ -51,6 +58,12 @@ frames = 42
   EXPECT_EQ(c.output_format, "png");
   EXPECT_TRUE(c.output_matte);
   EXPECT_EQ(c.max_frames, 42);
+  EXPECT_TRUE(c.bracket_enabled);
+  EXPECT_EQ(c.bracket.mains_hz, 60);
+  EXPECT_EQ(c.bracket.max_gain_db, 12);
+  EXPECT_DOUBLE_EQ(c.bracket.initial_exposure, 0.0025);
+  EXPECT_EQ(c.trigger_chip, "gpiochip1");
+  EXPECT_EQ(c.trigger_line, 17);
 }
 
 // A typo must not fall back silently to a default: the error names the key and its line.
@@ -73,6 +86,11 @@ TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[output]\nformat = \"gif\"\n"), ParseError);
   EXPECT_THROW(parse_service_config("[source\nrig = 1\n"), ParseError);  // TOML syntax
   EXPECT_THROW(load_service_config("/nonexistent/probeless.toml"), ParseError);
+  EXPECT_THROW(parse_service_config("[bracket]\nmains_hz = -50\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[bracket]\ninitial_exposure_ms = 0\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[bracket]\ngpio_line = -1\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[bracket]\nenabled = 1\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[bracket]\nmains = 50\n"), ParseError);
 }
 
 }  // namespace
