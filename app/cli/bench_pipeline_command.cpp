@@ -65,8 +65,8 @@ void run_bench(const BenchArgs& args) {
   j["source"] = args.source;
   j["occlusion"] = args.occlusion;
   nlohmann::json stages = nlohmann::json::object();
-  for (const char* name : {"capture_rgbd", "capture_fisheye", "render", "upload", "occlusion",
-                           "composite", "download", "frame", "encode"}) {
+  for (const char* name : {"capture_rgbd", "capture_fisheye", "exposure_count", "render", "upload",
+                           "occlusion", "composite", "download", "frame", "encode"}) {
     auto samples = pipeline.stats().all_samples(name);
     if (samples.empty()) continue;
     if (samples.size() > static_cast<std::size_t>(args.warmup))
