@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 BUILD := build/$(PRESET)
 PROBELESS := $(BUILD)/app/probeless
 
-.PHONY: all setup configure build test test-asan demo bench format clean
+.PHONY: all setup configure build test test-asan demo bench package format clean
 
 all: build
 
@@ -31,6 +31,10 @@ demo: build
 
 bench: build
 	$(PROBELESS) bench sim
+
+# The Debian package (docs/appliance.md): build/release/probeless_<version>_<arch>.deb
+package: build
+	cd $(BUILD) && cpack
 
 format:
 	git ls-files '*.cpp' '*.hpp' '*.cl' | xargs clang-format -i

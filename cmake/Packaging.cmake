@@ -1,0 +1,36 @@
+# Installation layout and the Debian package (`make package`, CPack DEB): the binary, the
+# systemd unit, sysusers, tmpfiles and udev files, and the default config as a conffile.
+# docs/appliance.md describes what each file does.
+include(GNUInstallDirs)
+
+install(TARGETS probeless RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# Debian 12 has merged /usr: systemd reads units, sysusers, tmpfiles and udev rules here.
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.service DESTINATION lib/systemd/system)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.sysusers DESTINATION lib/sysusers.d
+        RENAME probeless.conf)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.tmpfiles DESTINATION lib/tmpfiles.d
+        RENAME probeless.conf)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/60-probeless.rules DESTINATION lib/udev/rules.d)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.toml DESTINATION /etc/probeless)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/appliance.md
+              ${PROJECT_SOURCE_DIR}/docs/configuration.md
+        DESTINATION ${CMAKE_INSTALL_DOCDIR})
+
+set(CPACK_GENERATOR DEB)
+set(CPACK_PACKAGE_NAME probeless)
+set(CPACK_PACKAGE_VENDOR probeless)
+set(CPACK_PACKAGE_CONTACT "probeless maintainers <maintainers@probeless.invalid>")
+set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Headless mixed-reality appliance service")
+set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
+set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
+set(CPACK_DEBIAN_PACKAGE_SECTION video)
+# Libraries by dpkg-shlibdeps; the run-time drivers that are loaded, not linked, by hand:
+# an OpenCL ICD (PoCL on a desktop, the board's own where it has one) and Mesa's EGL/GL.
+set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
+set(CPACK_DEBIAN_PACKAGE_DEPENDS
+    "pocl-opencl-icd | opencl-icd, libegl-mesa0, libgl1-mesa-dri, systemd (>= 252)")
+set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
+    ${PROJECT_SOURCE_DIR}/cmake/deb/conffiles ${PROJECT_SOURCE_DIR}/cmake/deb/postinst
+    ${PROJECT_SOURCE_DIR}/cmake/deb/prerm ${PROJECT_SOURCE_DIR}/cmake/deb/postrm)
+set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
+include(CPack)
