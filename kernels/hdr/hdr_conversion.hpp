@@ -32,6 +32,24 @@ struct HdrConversionParams {
 // circle_radius >= 0 (all finite).
 void validate(const HdrConversionParams& params);
 
+// What convert() derives per frame, shared by the kernel's host side and the CPU reference so
+// that the flags are integer comparisons both sides agree on exactly.
+struct HdrConversionConstants {
+  int range = 0;             // white - black, white = 2^bit_depth - 1
+  int saturated_signal = 0;  // raw - black >= this in any channel -> saturated
+  int black_margin = 0;      // raw - black <= this in all channels -> black
+  float radiance_scale = 0;  // 1 / (range * E)
+  float inv_range = 0;       // 1 / range, for the normalised level of the quality hat
+  bool crop = false;         // image circle given
+  float circle_cx = 0, circle_cy = 0, circle_radius2 = 0;
+};
+// Validates as convert() does (std::invalid_argument).
+HdrConversionConstants hdr_conversion_constants(int bit_depth, std::uint16_t black_level,
+                                                const Exposure& exposure,
+                                                const HdrConversionParams& params);
+// The least quality a usable sample gets (the hat reaches 0 only at the ends of the range).
+inline constexpr float kMinUsableQuality = 1e-6f;
+
 class HdrConversion {
  public:
   HdrConversion(ComputeContext& ctx, HdrConversionParams params = {});
