@@ -45,7 +45,8 @@ class LightEstimator {
   const envmap::KeyframeSet& keyframes() const { return keyframes_; }
   // Host copy of a keyframe's texels (blocking).
   envmap::ImageRGBAF download(const envmap::Keyframe& keyframe);
-  // Stages: upload, convert, update, push_pull, sh; and total.
+  // Stages: upload, convert, update, push_pull, sh; and total. Each also as "cpu:NAME": the
+  // process's CPU time (all threads) over the stage.
   StageStats& stats() { return stats_; }
   const DeviceImage<float, 4>& converted() const { return converted_; }
 

@@ -11,6 +11,25 @@ float luminance(const Eigen::Vector4f& v) {
   return 0.2126F * v[0] + 0.7152F * v[1] + 0.0722F * v[2];
 }
 
+// envmap_update.cl's polar_angle: atan2(r, z), r >= 0, by Abramowitz & Stegun 4.4.49.
+float polar_angle(float r, float z) {
+  constexpr float kPi = 3.14159265358979F;
+  const float az = std::abs(z);
+  const float hi = std::max(r, az), lo = std::min(r, az);
+  const float x = hi > 0.0F ? lo / hi : 0.0F, x2 = x * x;
+  float a =
+      x *
+      (1.0F + x2 * (-0.3333314528F +
+                    x2 * (0.1999355085F +
+                          x2 * (-0.1420889944F +
+                                x2 * (0.1065626393F +
+                                      x2 * (-0.0752896400F +
+                                            x2 * (0.0429096138F +
+                                                  x2 * (-0.0161657367F + x2 * 0.0028662257F))))))));
+  a = r > az ? 0.5F * kPi - a : a;
+  return z < 0.0F ? kPi - a : a;
+}
+
 Eigen::Vector4f pixel(const ImageRGBAF& image, int x, int y) {
   return {image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2), image.at(x, y, 3)};
 }
@@ -46,7 +65,7 @@ std::optional<Eigen::Vector4f> sample_fisheye_reference(const ImageRGBAF& image,
                           r.row(2).dot(world_direction));
   const KannalaBrandtParams& c = view.camera;
   const float rad = std::sqrt(p.x() * p.x() + p.y() * p.y());
-  const float theta = std::atan2(rad, p.z());
+  const float theta = polar_angle(rad, p.z());
   if (!(theta <= static_cast<float>(c.max_theta))) return std::nullopt;
   float u = static_cast<float>(c.cx), v = static_cast<float>(c.cy);
   if (rad == 0.0F) {

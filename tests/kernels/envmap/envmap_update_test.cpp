@@ -60,6 +60,36 @@ INSTANTIATE_TEST_SUITE_P(Rules, EnvmapUpdateTest,
                                                                                      : "BestScore");
                          });
 
+// The reference's projection (a polynomial arctangent, as the kernel's) lands where core's
+// KannalaBrandtCamera::project does: sampling a linear ramp image returns the pixel position.
+TEST(EnvmapUpdateReference, ProjectsLikeTheCameraModel) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1, 1);
+  for (int trial = 0; trial < 5; ++trial) {
+    const FisheyeView view = random_view(rng, 300);
+    ImageRGBAF ramp(300, 300);
+    for (int y = 0; y < 300; ++y)
+      for (int x = 0; x < 300; ++x) {
+        ramp.at(x, y, 0) = static_cast<float>(x);
+        ramp.at(x, y, 1) = static_cast<float>(y);
+        ramp.at(x, y, 3) = 1.0F;
+      }
+    const KannalaBrandtCamera camera(view.camera);
+    int compared = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const Eigen::Vector3f d(u(rng), u(rng), u(rng));
+      const auto s = sample_fisheye_reference(ramp, view, d);
+      const auto px = camera.project(view.R_camera_world * d.cast<double>());
+      if (!s) continue;
+      ASSERT_TRUE(px.has_value());
+      EXPECT_NEAR((*s)[0], px->x(), 2e-3);
+      EXPECT_NEAR((*s)[1], px->y(), 2e-3);
+      ++compared;
+    }
+    EXPECT_GT(compared, 500);
+  }
+}
+
 // --- Synthetic sequences: a uniform sky seen by the upward fisheye ---
 
 constexpr int kFace = 16, kImage = 128;
