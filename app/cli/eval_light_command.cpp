@@ -66,7 +66,7 @@ void run(Options& o) {
     throw CommandError(e.what());
   }
   std::cout << fmt::format(
-      "eval light: {} fisheye frames ({} s of the slow orbit), rule {}, {} keyframe(s); keyframe "
+      "eval light: {} fisheye frames ({} s of sim time), rule {}, {} keyframe(s); keyframe "
       "{} is {:.2f} m from the object; radiance scale {:.4f} (exact, from the sim's sensor)\n",
       r.frames, o.eval.seconds, r.rule, r.keyframes, r.keyframe_id, r.keyframe_distance_m, r.scale);
   print("the truth at the object (FrameTruth::light)", r.at_probe);

@@ -4,9 +4,8 @@
 // coarse to fine). Faces without a single observed texel are then seeded along their edges
 // from the adjacent faces' filled borders and pushed-pulled again, in passes until every face
 // that can be reached has data (at most three: a face opposite the only observed one needs
-// its four neighbours first). Observed texels never change.
-#include <vector>
-
+// its four neighbours first). Observed texels never change. Everything is decided on the
+// device (seven launches, no read-back): one work-group per face runs a whole pyramid.
 #include "kernels/envmap/envmap_types.hpp"
 #include "kernels/runtime/device_image.hpp"
 
@@ -21,18 +20,19 @@ inline int adjacent_faces(int face) {
 class PushPull {
  public:
   explicit PushPull(ComputeContext& ctx);
-  // Fills texels (n x 6n) in place. Enqueues the passes; reads back six weights (blocking)
-  // to learn which faces had no data. Returns the faces that had observed texels (a mask).
-  int fill(DeviceImage<float, 4>& texels);
+  // Fills texels (n x 6n) in place. Enqueues only.
+  void fill(DeviceImage<float, 4>& texels);
+  // After fill: the faces that had observed texels (a mask; blocking read).
+  int observed_faces();
 
  private:
-  void pull_push(DeviceImage<float, 4>& texels, int face_mask);
-  void resize_levels(int n);
-
   ComputeContext& ctx_;
-  ::cl::Kernel pull_, push_, seed_;
-  std::vector<DeviceImage<float, 4>> levels_;  // 1..top: sizes ceil(n / 2^k) down to 1
+  ::cl::Kernel pull_push_, seed_;
+  ::cl::Buffer pyramid_;      // levels 1..top of all six faces
+  ::cl::Buffer face_state_;   // int[6]: 0 no data, 2 observed, 1 filled from neighbours
+  ::cl::Buffer face_target_;  // int[6]: the faces a pass works on
   int face_size_ = 0;
+  std::size_t local_ = 1;
 };
 
 }  // namespace probeless::envmap

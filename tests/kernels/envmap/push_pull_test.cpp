@@ -33,8 +33,8 @@ ImageRGBAF sparse_texels(std::mt19937& rng, int n, int faces_with_data) {
 ImageRGBAF device_fill(PushPull& stage, const ImageRGBAF& texels, int* observed = nullptr) {
   auto& ctx = cl_context();
   DeviceImage<float, 4> d(ctx, texels);
-  const int mask = stage.fill(d);
-  if (observed) *observed = mask;
+  stage.fill(d);
+  if (observed) *observed = stage.observed_faces();
   return d.download(ctx.queue());
 }
 
