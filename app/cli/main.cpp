@@ -23,10 +23,12 @@ int main(int argc, char** argv) {
   probeless::cli::add_bench_pipeline_command(*bench);
   probeless::cli::add_bench_composite_command(*bench);
   probeless::cli::add_bench_occlusion_command(*bench);
+  probeless::cli::add_bench_light_command(*bench);
   auto* eval = app.add_subcommand("eval", "Evaluations against ground truth");
   eval->require_subcommand(1);
   probeless::cli::add_eval_occlusion_command(*eval);
   probeless::cli::add_eval_hdr_command(*eval);
+  probeless::cli::add_eval_light_command(*eval);
 
   app.parse_complete_callback([&] { probeless::cli::setup_logging(log_level.c_str()); });
   try {

@@ -6,36 +6,6 @@
 
 namespace probeless {
 
-ExposureStats count_exposure(const ImageRGB16& raw, int bit_depth, std::uint16_t black_level,
-                             double read_noise_dn, double full_scale_noise_dn) {
-  if (bit_depth < 1 || bit_depth > 16) throw std::invalid_argument("count_exposure: bit depth");
-  const int full = (1 << bit_depth) - 1;
-  if (black_level >= full) throw std::invalid_argument("count_exposure: black level");
-  const int range = full - black_level;
-  const double near_zero_limit = 1.0 + 6.0 * std::max(0.0, read_noise_dn);
-  const double near_saturated_limit = range - 3.0 * std::max(0.0, full_scale_noise_dn);
-  ExposureStats s;
-  s.pixels = raw.pixel_count();
-  const std::uint16_t* p = raw.data();
-  for (std::size_t i = 0; i < s.pixels; ++i, p += 3) {
-    bool sat = false, zero = false, near_sat = false, near_zero = false;
-    for (int c = 0; c < 3; ++c) {
-      const int v = p[c];
-      const int signal = v - black_level;
-      sat |= v >= full;
-      zero |= signal <= 0;
-      // Twice the signal reaches full scale; half of it rounds to nothing.
-      near_sat |= 2.0 * signal >= near_saturated_limit;
-      near_zero |= signal <= near_zero_limit;
-    }
-    s.saturated += sat;
-    s.zero += zero;
-    s.near_saturated += near_sat;
-    s.near_zero += near_zero;
-  }
-  return s;
-}
-
 double max_integration_time(const BracketConfig& config) {
   double t = config.max_time_s;
   if (config.mains_hz > 0) t = std::min(t, 1.0 / config.mains_hz);
@@ -95,7 +65,9 @@ ExposureStamp BracketSequencer::next() {
 
 bool BracketSequencer::observe(const ExposureStamp& taken, const ExposureStats& stats) {
   if (taken.level == BracketLevel::Fixed || stats.pixels == 0) return false;
-  const int index = taken.level == BracketLevel::Low ? 0 : taken.level == BracketLevel::Medium ? 1 : 2;
+  const int index = taken.level == BracketLevel::Low      ? 0
+                    : taken.level == BracketLevel::Medium ? 1
+                                                          : 2;
   if (stop_of(taken.exposure) != stop_[index]) return false;  // stale: already moved
   const int sp = std::max(0, config_.min_spacing_stops);
   const double n = static_cast<double>(stats.pixels);
@@ -139,7 +111,8 @@ bool BracketSequencer::observe(const ExposureStamp& taken, const ExposureStats& 
       medium_last_move_cycle_ = static_cast<std::int64_t>(taken.cycle);
       return true;
     }
-    case BracketLevel::Fixed: break;
+    case BracketLevel::Fixed:
+      break;
   }
   return false;
 }

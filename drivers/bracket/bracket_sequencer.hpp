@@ -2,20 +2,21 @@
 // The bracket sequencer: which exposure the fisheye takes next, in the L, M, H, M cycle, and
 // how the low and high exposures follow the scene (thesis ch. 5; docs/bracketing.md). No
 // device and no OpenCL here: a camera driver applies next() and feeds observe() with counts
-// from the frame (count_exposure on the CPU; an OpenCL reduction is a later step).
+// from the frame (count_exposure on the CPU, or kernels/hdr/exposure_count on the device).
 #include <cstddef>
 #include <cstdint>
 
 #include "core/exposure.hpp"
+#include "core/exposure_count.hpp"
 #include "core/image.hpp"
 
 namespace probeless {
 
 struct BracketConfig {
-  double mains_hz = 50.0;         // time <= one mains period (flicker); <= 0: no mains limit
-  double min_time_s = 1e-5;       // the camera's shortest integration
-  double max_time_s = 0.1;        // the camera's longest (its frame period)
-  double max_gain_db = 24.0;      // the camera's highest analogue gain (0 dB is the lowest)
+  double mains_hz = 50.0;     // time <= one mains period (flicker); <= 0: no mains limit
+  double min_time_s = 1e-5;   // the camera's shortest integration
+  double max_time_s = 0.1;    // the camera's longest (its frame period)
+  double max_gain_db = 24.0;  // the camera's highest analogue gain (0 dB is the lowest)
   double saturated_fraction_threshold = 0.001;  // low: one stop down above this
   double zero_fraction_threshold = 0.001;       // high: one stop up above this
   double initial_exposure = 0.005;  // E of the medium level at start (e.g. the camera's AE)
@@ -25,24 +26,8 @@ struct BracketConfig {
   int medium_period_cycles = 2;     // adapted M moves at most one stop per this many cycles
 };
 
-// Counts over one frame. near_saturated / near_zero predict the next stop (pixels that one
-// stop more would saturate, one stop less would zero; they include the saturated / zero ones)
-// and keep L and H from stepping into an exposure they would step straight back out of. Left
-// at 0 they give the thesis's rule exactly.
-struct ExposureStats {
-  std::size_t pixels = 0;
-  std::size_t saturated = 0;  // any channel at full scale
-  std::size_t zero = 0;       // any channel at or below the black level
-  std::size_t near_saturated = 0;
-  std::size_t near_zero = 0;
-};
-
-// The noise widens the predictions so that L and H do not flicker between two stops:
-// near_zero takes the pixels whose halved signal read noise could take to zero (signal <=
-// 1 + 6 sigma_read), near_saturated those whose doubled signal noise at full scale could
-// saturate (2 signal + 3 sigma_full >= range). 0 and 0: the noise-free predictions.
-ExposureStats count_exposure(const ImageRGB16& raw, int bit_depth, std::uint16_t black_level,
-                             double read_noise_dn = 0.0, double full_scale_noise_dn = 0.0);
+// ExposureStats and count_exposure (the CPU counts, and the reference of the OpenCL
+// reduction kernels/hdr/exposure_count) live in core/exposure_count.hpp.
 
 // Longest time (up to the mains period and the camera's max), then the lowest gain that
 // reaches E; clamped to what the camera can do.

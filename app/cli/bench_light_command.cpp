@@ -1,0 +1,96 @@
+// probeless bench light: per fisheye frame, the time of HDR conversion + keyframe update +
+// push-pull + SH (LightEstimator), waiting for the queue after each stage
+// (docs/light-capture.md, docs/performance.md "Light capture: bench light").
+#include <fmt/format.h>
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app/cli/commands.hpp"
+#include "app/light/light_estimator.hpp"
+#include "core/exposure_count.hpp"
+#include "drivers/bracket/bracket_sequencer.hpp"
+#include "drivers/sim/sim_rig.hpp"
+
+namespace probeless::cli {
+namespace {
+
+struct Options {
+  int frames = 120;
+  std::string sim = "fisheye_size=1024";
+  int face_size = 128;
+  std::string json;
+};
+
+void run(const Options& o) {
+  const sim::SimOptions sim_options = sim::parse_sim_options("realtime=0," + o.sim);
+  Rig rig = sim::make_sim_rig(sim_options);
+  const auto* fisheye = dynamic_cast<const KannalaBrandtCamera*>(rig.calibration.fisheye.get());
+  if (!fisheye) throw CommandError("bench light: the sim's fisheye is not Kannala-Brandt");
+  ComputeContext ctx;
+  light::LightEstimatorConfig config;
+  config.keyframes.face_size = o.face_size;
+  light::LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, config);
+  BracketSequencer sequencer;
+  FisheyeFrame frame;
+  const int warmup = 8;
+  std::cout << fmt::format("bench light: {} frames of a {} px fisheye (sim:{}), {} px faces, {}\n",
+                           o.frames, sim_options.fisheye_size, o.sim, o.face_size, ctx.describe());
+  for (int i = 0; i < warmup + o.frames; ++i) {
+    const ExposureStamp stamp = sequencer.next();
+    rig.fisheye->set_next_exposure(stamp);
+    if (rig.fisheye->read(frame, std::chrono::milliseconds(5000)) != ReadResult::Frame ||
+        !frame.truth || !frame.truth->rig_pose)
+      throw CommandError("bench light: the sim's fisheye stopped");
+    estimator.process(frame, *frame.truth->rig_pose);  // timed inside
+    sequencer.observe(frame.exposure,
+                      count_exposure(frame.raw, frame.bit_depth, frame.black_level));
+  }
+  // Every sample after the warm-up frames (compiling, first allocations).
+  const auto timed = [&](const char* stage) {
+    std::vector<double> all = estimator.stats().all_samples(stage);
+    all.erase(all.begin(), all.begin() + std::min<std::ptrdiff_t>(warmup, std::ssize(all)));
+    return summarize(std::move(all));
+  };
+  const TimingSummary total = timed("total");
+  const TimingSummary total_cpu = timed("cpu:total");
+  nlohmann::json stages;
+  const auto line = [](const std::string& name, const TimingSummary& s, const TimingSummary& cpu) {
+    std::cout << fmt::format("  {:<10} p50 {:6.3f} ms  p99 {:6.3f} ms   cpu p50 {:6.3f} ms\n", name,
+                             s.p50_ms, s.p99_ms, cpu.p50_ms);
+  };
+  line("total", total, total_cpu);
+  for (const std::string stage : {"upload", "convert", "update", "push_pull", "sh"}) {
+    const TimingSummary s = timed(stage.c_str());
+    const TimingSummary cpu = timed(("cpu:" + stage).c_str());
+    stages[stage] = {{"p50_ms", s.p50_ms}, {"p99_ms", s.p99_ms}, {"cpu_p50_ms", cpu.p50_ms}};
+    line(stage, s, cpu);
+  }
+  if (!o.json.empty()) {
+    const nlohmann::json j{{"p50_ms", total.p50_ms},   {"p99_ms", total.p99_ms},
+                           {"stages", stages},         {"cpu_p50_ms", total_cpu.p50_ms},
+                           {"frames", o.frames},       {"fisheye_size", sim_options.fisheye_size},
+                           {"face_size", o.face_size}, {"device", ctx.describe()}};
+    std::ofstream out(o.json);
+    out << j.dump(2) << "\n";
+    if (!out) throw CommandError("cannot write " + o.json);
+  }
+}
+
+}  // namespace
+
+void add_bench_light_command(CLI::App& bench) {
+  auto o = std::make_shared<Options>();
+  auto* cmd = bench.add_subcommand(
+      "light", "Per fisheye frame: HDR conversion + keyframe update + push-pull + SH");
+  cmd->add_option("--frames", o->frames, "Frames timed (after 8 of warm-up)")
+      ->capture_default_str();
+  cmd->add_option("--sim", o->sim, "Sim options (after realtime=0)")->capture_default_str();
+  cmd->add_option("--face-size", o->face_size, "Keyframe face size")->capture_default_str();
+  cmd->add_option("--json", o->json, "Write {p50_ms, p99_ms, stages} as JSON");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace probeless::cli

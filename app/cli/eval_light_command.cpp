@@ -1,0 +1,119 @@
+// probeless eval light --source sim: the light estimator on the sim's slow orbit against the
+// sim's ground-truth radiance (docs/light-capture.md "eval light").
+#include <fmt/format.h>
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app/cli/commands.hpp"
+#include "app/light/light_eval.hpp"
+
+namespace probeless::cli {
+namespace {
+
+struct Options {
+  std::string source = "sim";
+  std::string json;
+  std::string rule = "kalman";
+  light::LightEvalOptions eval;
+};
+
+nlohmann::json face_json(const light::FaceError& f) {
+  nlohmann::json j{{"observed", f.observed}};
+  j["relative_rmse"] = f.relative_rmse ? nlohmann::json(*f.relative_rmse) : nlohmann::json();
+  return j;
+}
+
+nlohmann::json comparison_json(const light::TruthComparison& c) {
+  static const char* kFaces[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  nlohmann::json faces;
+  for (int f = 0; f < 6; ++f) faces[kFaces[f]] = face_json(c.faces[f]);
+  return {{"truth", c.truth},
+          {"faces", faces},
+          {"all", face_json(c.all)},
+          {"sh25_relative_error", c.sh25_relative_error},
+          {"sh9_relative_error", c.sh9_relative_error}};
+}
+
+void print(const std::string& label, const light::TruthComparison& c) {
+  static const char* kFaces[] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+  std::cout << fmt::format("  vs {}:\n   ", label);
+  for (int f = 0; f < 6; ++f) {
+    const auto& e = c.faces[f];
+    std::cout << fmt::format(" {} {}", kFaces[f],
+                             e.relative_rmse ? fmt::format("{:.3f}", *e.relative_rmse) : "-");
+  }
+  std::cout << fmt::format(
+      "\n    all observed texels ({}): relative RMSE {}; SH error 25: {:.3f}, 9: {:.3f}\n",
+      c.all.observed, c.all.relative_rmse ? fmt::format("{:.4f}", *c.all.relative_rmse) : "-",
+      c.sh25_relative_error, c.sh9_relative_error);
+}
+
+void run(Options& o) {
+  if (o.source != "sim") throw CommandError("eval light: only --source sim has ground truth");
+  if (o.rule == "kalman")
+    o.eval.estimator.update.rule = envmap::UpdateRule::Kalman;
+  else if (o.rule == "best_score")
+    o.eval.estimator.update.rule = envmap::UpdateRule::BestScore;
+  else
+    throw CommandError("eval light: --rule is kalman or best_score");
+  light::LightEvalReport r;
+  try {
+    r = light::evaluate_light_sim(o.eval);
+  } catch (const std::invalid_argument& e) {
+    throw CommandError(e.what());
+  }
+  std::cout << fmt::format(
+      "eval light: {} fisheye frames ({} s of sim time), rule {}, {} keyframe(s); keyframe "
+      "{} is {:.2f} m from the object; radiance scale {:.4f} (exact, from the sim's sensor)\n",
+      r.frames, o.eval.seconds, r.rule, r.keyframes, r.keyframe_id, r.keyframe_distance_m, r.scale);
+  print("the truth at the object (FrameTruth::light)", r.at_probe);
+  print("the truth at the keyframe's position", r.at_keyframe);
+  print(fmt::format("the truth at the fisheye's last position ({:.2f} m from the keyframe's)",
+                    r.keyframe_to_last_capture_m),
+        r.at_last_capture);
+  std::cout << fmt::format(
+      "  per frame: p50 {:.2f} ms, p99 {:.2f} ms; exposures settled after {} cycles\n",
+      r.total.p50_ms, r.total.p99_ms, r.settle_cycles);
+  if (!o.json.empty()) {
+    const nlohmann::json j{{"frames", r.frames},
+                           {"seconds", o.eval.seconds},
+                           {"rule", r.rule},
+                           {"keyframes", r.keyframes},
+                           {"keyframe_id", r.keyframe_id},
+                           {"keyframe_distance_m", r.keyframe_distance_m},
+                           {"radiance_scale", r.scale},
+                           {"settle_cycles", r.settle_cycles},
+                           {"at_probe", comparison_json(r.at_probe)},
+                           {"at_keyframe", comparison_json(r.at_keyframe)},
+                           {"at_last_capture", comparison_json(r.at_last_capture)},
+                           {"keyframe_to_last_capture_m", r.keyframe_to_last_capture_m},
+                           {"p50_ms", r.total.p50_ms},
+                           {"p99_ms", r.total.p99_ms}};
+    std::ofstream out(o.json);
+    out << j.dump(2) << "\n";
+    if (!out) throw CommandError("cannot write " + o.json);
+  }
+}
+
+}  // namespace
+
+void add_eval_light_command(CLI::App& eval) {
+  auto o = std::make_shared<Options>();
+  auto* cmd = eval.add_subcommand(
+      "light", "Light capture on the sim's slow orbit against its ground-truth radiance");
+  cmd->add_option("--source", o->source, "Source with ground truth (sim)")->capture_default_str();
+  cmd->add_option("--seconds", o->eval.seconds, "Sim time to run")->capture_default_str();
+  cmd->add_option("--sim", o->eval.sim_spec, "Extra sim options (seed=2,fisheye_size=1024,...)");
+  cmd->add_option("--rule", o->rule, "Texel update: kalman or best_score")->capture_default_str();
+  cmd->add_option("--face-size", o->eval.estimator.keyframes.face_size, "Keyframe face size")
+      ->capture_default_str();
+  cmd->add_option("--json", o->json, "Write the report as JSON");
+  cmd->add_option("--dump", o->eval.dump_dir,
+                  "Write DIR/compare.png: estimate, truth at the object, truth at the keyframe");
+  cmd->callback([o] { run(*o); });
+}
+
+}  // namespace probeless::cli

@@ -1,0 +1,111 @@
+#include "app/light/light_estimator.hpp"
+
+#include <chrono>
+#include <ctime>
+#include <string>
+
+namespace probeless::light {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// CPU time of the whole process (PoCL's threads included): on a shared, loaded machine it
+// moves much less than wall-clock time, so bench light reports both.
+double process_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
+HdrConversionParams with_circle(HdrConversionParams p, const KannalaBrandtParams& cam) {
+  if (p.circle_radius == 0) {
+    // The image circle: where the model's max_theta lands (Kannala-Brandt theta_d).
+    const double t = cam.max_theta, t2 = t * t;
+    const auto& k = cam.k;
+    const double theta_d = t * (1 + t2 * (k[0] + t2 * (k[1] + t2 * (k[2] + t2 * k[3]))));
+    p.circle_cx = static_cast<float>(cam.cx);
+    p.circle_cy = static_cast<float>(cam.cy);
+    p.circle_radius = static_cast<float>(theta_d * std::min(cam.fx, cam.fy));
+  }
+  return p;
+}
+
+}  // namespace
+
+LightEstimator::LightEstimator(ComputeContext& ctx, const KannalaBrandtParams& fisheye,
+                               const Pose& T_rig_fisheye, const LightEstimatorConfig& config)
+    : ctx_(ctx),
+      fisheye_(fisheye),
+      T_rig_fisheye_(T_rig_fisheye),
+      config_(config),
+      hdr_(ctx, with_circle(config.hdr, fisheye)),
+      keyframes_(ctx, config.keyframes),
+      update_(ctx, config.update),
+      push_pull_(ctx),
+      downsample_(ctx),
+      projector_(config.sh_face_size) {
+  stats_.keep_all(true);
+}
+
+const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
+                                                const Pose& T_world_rig) {
+  const auto t0 = Clock::now();
+  const double cpu0 = process_cpu_ms();
+  auto t = t0;
+  double cpu = cpu0;
+  const auto lap = [&](const std::string& stage) {
+    if (!config_.time_stages) return;
+    ctx_.queue().finish();
+    const auto now = Clock::now();
+    const double cpu_now = process_cpu_ms();
+    stats_.record(stage, std::chrono::duration<double, std::milli>(now - t).count());
+    stats_.record("cpu:" + stage, cpu_now - cpu);
+    t = now;
+    cpu = cpu_now;
+  };
+
+  raw_.upload(ctx_.queue(), frame.raw, false);
+  lap("upload");
+  hdr_.convert(raw_, frame.bit_depth, frame.black_level, frame.exposure.exposure, converted_);
+  lap("convert");
+
+  // Rotation only: the environment is taken as distant, so where the fisheye is inside the
+  // keyframe's neighbourhood does not move the texels (docs/light-capture.md "Limits").
+  const Pose T_world_fisheye = T_world_rig * T_rig_fisheye_;
+  envmap::Keyframe& keyframe = keyframes_.for_capture(T_world_fisheye.translation);
+  envmap::FisheyeView view;
+  view.camera = fisheye_;
+  view.R_camera_world = T_world_fisheye.rotation.toRotationMatrix().transpose();
+  const bool bracketing = frame.exposure.level != BracketLevel::Fixed;
+  const bool publish = !bracketing || frame.exposure.cycle_position == 3;
+  update_.update(converted_, view, publish, keyframe.texels, keyframe.pending);
+  ++keyframe.updates;
+  lap("update");
+
+  push_pull_.fill(keyframe.texels);
+  lap("push_pull");
+
+  downsample_.run(keyframe.texels, config_.sh_face_size, small_);
+  small_.download(ctx_.queue(), small_host_);  // blocking: waits for the whole queue
+  sh_ = projector_.project(small_host_);
+  lap("sh");
+  stats_.record("total", std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  stats_.record("cpu:total", process_cpu_ms() - cpu0);
+  // The raw upload is non-blocking: frame.raw must outlive it, and the blocking download
+  // above has drained the queue by now.
+  return keyframe;
+}
+
+bool LightEstimator::process(const FisheyeFrame& frame, const Trajectory& rig) {
+  const auto pose = rig.at(frame.timestamp_ns);
+  if (!pose) return false;
+  process(frame, *pose);
+  return true;
+}
+
+envmap::ImageRGBAF LightEstimator::download(const envmap::Keyframe& keyframe) {
+  return keyframe.texels.download(ctx_.queue());
+}
+
+}  // namespace probeless::light

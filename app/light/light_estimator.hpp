@@ -1,0 +1,72 @@
+#pragma once
+// The light model, per fisheye frame (thesis ch. 5-6; docs/light-capture.md): HDR conversion
+// of the raw frame, the keyframe for the fisheye's position (KeyframeSet), the texel update
+// through the camera model and the rig rotation, push-pull of unobserved texels, and the SH
+// of the updated keyframe. Keeps per-stage timings.
+#include <memory>
+
+#include "app/light/sh_projector.hpp"
+#include "app/pipeline/stage_stats.hpp"
+#include "core/frame.hpp"
+#include "core/pose.hpp"
+#include "core/sh.hpp"
+#include "kernels/envmap/envmap_downsample.hpp"
+#include "kernels/envmap/envmap_update.hpp"
+#include "kernels/envmap/keyframe_set.hpp"
+#include "kernels/envmap/push_pull.hpp"
+#include "kernels/hdr/hdr_conversion.hpp"
+
+namespace probeless::light {
+
+struct LightEstimatorConfig {
+  envmap::KeyframeConfig keyframes;
+  envmap::UpdateParams update;
+  // Its image circle, when left at radius 0, is the fisheye model's (max_theta).
+  HdrConversionParams hdr;
+  int sh_face_size = 32;  // the keyframe is box-averaged to this before the SH projection
+  // Wait for the queue after each stage so that stats() holds each stage's time (what
+  // `bench light` reports); false: one wait, at the SH download.
+  bool time_stages = true;
+};
+
+class LightEstimator {
+ public:
+  LightEstimator(ComputeContext& ctx, const KannalaBrandtParams& fisheye, const Pose& T_rig_fisheye,
+                 const LightEstimatorConfig& config = {});
+
+  // One fisheye frame and T_world_rig at its timestamp. Returns the keyframe it updated.
+  const envmap::Keyframe& process(const FisheyeFrame& frame, const Pose& T_world_rig);
+  // The same with the rig pose interpolated to the frame's timestamp; false (nothing done)
+  // when the trajectory does not cover it.
+  bool process(const FisheyeFrame& frame, const Trajectory& rig);
+
+  // SH (5 bands) of the keyframe last updated, after push-pull.
+  const ShRgb& sh() const { return sh_; }
+  const envmap::KeyframeSet& keyframes() const { return keyframes_; }
+  // Host copy of a keyframe's texels (blocking).
+  envmap::ImageRGBAF download(const envmap::Keyframe& keyframe);
+  // Stages: upload, convert, update, push_pull, sh; and total. Each also as "cpu:NAME": the
+  // process's CPU time (all threads) over the stage.
+  StageStats& stats() { return stats_; }
+  const DeviceImage<float, 4>& converted() const { return converted_; }
+
+ private:
+  ComputeContext& ctx_;
+  KannalaBrandtParams fisheye_;
+  Pose T_rig_fisheye_;
+  LightEstimatorConfig config_;
+  HdrConversion hdr_;
+  envmap::KeyframeSet keyframes_;
+  envmap::EnvmapUpdate update_;
+  envmap::PushPull push_pull_;
+  envmap::EnvmapDownsample downsample_;
+  ShProjector projector_;
+  DeviceImage<std::uint16_t, 3> raw_;
+  DeviceImage<float, 4> converted_;
+  DeviceImage<float, 4> small_;
+  envmap::ImageRGBAF small_host_;
+  ShRgb sh_;
+  StageStats stats_;
+};
+
+}  // namespace probeless::light

@@ -1,0 +1,62 @@
+#pragma once
+// `probeless eval light --source sim`: the light estimator on the synthetic rig's slow orbit,
+// its keyframe compared with the sim's ground truth (docs/light-capture.md "eval light").
+#include <array>
+#include <optional>
+#include <string>
+
+#include "app/light/light_estimator.hpp"
+
+namespace probeless::light {
+
+struct LightEvalOptions {
+  double seconds = 2.0;  // sim time
+  std::string sim_spec;  // extra sim options (after realtime=0)
+  LightEstimatorConfig estimator;
+  int compare_face_size = 32;  // the truth cubemap's resolution
+  // Non-empty: write compare.png there (estimate, truth at the object, truth at the keyframe,
+  // faces top to bottom in GL order, log-scaled; unobserved texels darkened).
+  std::string dump_dir;
+};
+
+struct FaceError {
+  int observed = 0;                     // compared texels (fully observed at keyframe resolution)
+  std::optional<double> relative_rmse;  // sqrt(sum |est - true|^2 / sum |true|^2), RGB
+};
+
+struct TruthComparison {
+  std::string truth;  // what the keyframe is compared with
+  std::array<FaceError, 6> faces;
+  FaceError all;
+  double sh25_relative_error = 0;  // |c_est - c_true| / |c_true| over 25 x 3 coefficients
+  double sh9_relative_error = 0;
+};
+
+struct LightEvalReport {
+  int frames = 0;
+  int keyframes = 0;
+  int keyframe_id = -1;
+  double keyframe_distance_m = 0;  // from the keyframe to the light probe position
+  double scale = 0;                // converted value -> sim radiance
+  std::string rule;
+  TruthComparison at_probe;     // FrameTruth::light, seen from light_probe_position()
+  TruthComparison at_keyframe;  // the same room rendered from the keyframe's position
+  // ... and from the fisheye's last position (the Kalman filter weighs recent frames most)
+  TruthComparison at_last_capture;
+  double keyframe_to_last_capture_m = 0;
+  int settle_cycles = 0;
+  TimingSummary total;
+};
+
+LightEvalReport evaluate_light_sim(const LightEvalOptions& options);
+
+// The comparison itself (unit-tested): est and truth are m x 6m radiance images at the same
+// resolution; `observed` marks the compared texels of est.
+TruthComparison compare_cubemaps(const envmap::ImageRGBAF& est, const envmap::ImageRGBAF& truth,
+                                 const std::vector<bool>& observed);
+// Box-average of an n x 6n keyframe to m-px faces; a texel is observed when all of its n/m
+// x n/m sources are (alpha > 0).
+envmap::ImageRGBAF average_observed(const envmap::ImageRGBAF& texels, int m,
+                                    std::vector<bool>& observed);
+
+}  // namespace probeless::light
