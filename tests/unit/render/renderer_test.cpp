@@ -297,7 +297,7 @@ TEST_F(RendererTest, PawnMatchesGoldenImage) {
     for (int x = 0; x < k.width; ++x)
       for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = out.color.at(x, y, c);
 
-  const auto golden = std::filesystem::path(__FILE__).parent_path() / "golden" / "pawn.png";
+  const auto golden = std::filesystem::path(PROBELESS_TEST_SOURCE_DIR) / "golden" / "pawn.png";
   const char* update = std::getenv("PROBELESS_UPDATE_GOLDEN");
   if (update != nullptr && std::string(update) == "1") {
     std::filesystem::create_directories(golden.parent_path());
