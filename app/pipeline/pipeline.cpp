@@ -7,6 +7,7 @@
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/jpeg_encoder.hpp"
 #include "app/pipeline/frame_processor.hpp"
+#include "app/pipeline/light_capture.hpp"
 #include "drivers/trigger/gpio_trigger.hpp"
 
 namespace probeless {
@@ -17,10 +18,6 @@ using namespace std::chrono_literals;
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
-
-// A bracket cycle is 4 frames (L, M, H, M); twice that rides out one slow processing frame
-// without losing an exposure the HDR merge needs.
-constexpr std::size_t kFisheyeQueue = 8;
 
 }  // namespace
 
@@ -59,7 +56,15 @@ void Pipeline::start() {
       trigger_ = std::make_unique<GpioTrigger>(trigger);  // a missing chip fails start()
     }
   }
+  if (rig_.fisheye && config_.light_enabled) {
+    try {
+      light_ = std::make_unique<LightCapture>(config_, rig_.calibration);
+    } catch (const std::invalid_argument& e) {
+      spdlog::warn("light capture off: {}", e.what());
+    }
+  }
   threads_.emplace_back([this](std::stop_token s) { capture_rgbd(s); });
+  if (light_) threads_.emplace_back([this](std::stop_token s) { light_->run(s, stats_); });
   if (rig_.fisheye) threads_.emplace_back([this](std::stop_token s) { capture_fisheye(s); });
   threads_.emplace_back([this](std::stop_token s) { process(s); });
   threads_.emplace_back([this](std::stop_token s) { output_loop(s); });
@@ -130,6 +135,8 @@ void Pipeline::capture_rgbd(std::stop_token stop) {
     if (r == ReadResult::Frame) {
       stats_.record("capture_rgbd", ms_since(t0));
       ++rgbd_in_;
+      if (light_ && frame.truth && frame.truth->rig_pose)
+        light_->add_rig_pose(frame.timestamp_ns, *frame.truth->rig_pose);
       last_rgbd_ns_ = monotonic_now_ns();
       rgbd_slot_.publish(std::move(frame));
       continue;
@@ -185,11 +192,7 @@ void Pipeline::capture_fisheye(std::stop_token stop) {
     }
     fisheye_exposure_ = frame.exposure;
     ++fisheye_in_;
-    fisheye_queue_.push_back(std::move(frame));
-    if (fisheye_queue_.size() > kFisheyeQueue) {
-      fisheye_queue_.pop_front();
-      ++fisheye_drops_;
-    }
+    if (light_) light_->push(std::move(frame));  // the light thread keeps a bracket cycle
   }
 }
 
@@ -222,11 +225,6 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
     if (watchdog_every && now - last_watchdog >= *watchdog_every) {
       options_.notifier->watchdog();  // from this loop: a hung pipeline stops the beat
       last_watchdog = now;
-    }
-    {  // The light stage (issue 5) consumes these; until then they are counted and released.
-      std::lock_guard lock(fisheye_mutex_);
-      fisheye_used_ += fisheye_queue_.size();
-      fisheye_queue_.clear();
     }
     auto item = rgbd_slot_.take_newer(seen, 50ms);
     if (!item) {
@@ -330,7 +328,6 @@ nlohmann::json Pipeline::status() const {
   {
     std::lock_guard lock(fisheye_mutex_);
     j["frames"]["fisheye_in"] = fisheye_in_;
-    j["frames"]["fisheye_dropped"] = fisheye_drops_;
     if (fisheye_exposure_) {
       const ExposureStamp& e = *fisheye_exposure_;
       j["fisheye_exposure"] = {{"level", to_string(e.level)},
@@ -355,6 +352,7 @@ nlohmann::json Pipeline::status() const {
                           {"state", to_string(rig_.fisheye->state())},
                           {"last_error", rig_.fisheye->last_error()}};
   j["sources"] = sources;
+  j["light"] = light_ ? light_->status() : nlohmann::json{{"state", "off"}};
   {
     std::lock_guard lock(state_mutex_);
     j["occlusion"] = occlusion_name_;

@@ -24,6 +24,8 @@
 
 namespace probeless {
 
+class LightCapture;
+
 class HttpServer;
 class FileOutput;
 
@@ -99,13 +101,13 @@ class Pipeline {
   std::atomic<std::uint64_t> rgbd_in_{0};
 
   mutable std::mutex fisheye_mutex_;
-  std::deque<FisheyeFrame> fisheye_queue_;  // keeps a whole bracket cycle (and then some)
-  std::uint64_t fisheye_in_ = 0, fisheye_drops_ = 0, fisheye_used_ = 0;
+  std::uint64_t fisheye_in_ = 0;
   std::optional<ExposureStamp> fisheye_exposure_;  // of the newest fisheye frame
   // Driven from the fisheye capture thread only (status reads copies under fisheye_mutex_).
   std::unique_ptr<BracketSequencer> bracket_;
   std::unique_ptr<ExposureTrigger> trigger_;
-  int bracket_stops_[3] = {0, 0, 0};  // L, M, H relative to the initial exposure
+  std::unique_ptr<LightCapture> light_;  // null: no fisheye, light off, or unsupported
+  int bracket_stops_[3] = {0, 0, 0};     // L, M, H relative to the initial exposure
 
   LatestFrame<CompositeFrame> output_;
   std::optional<CompositeFrame> last_good_;

@@ -40,7 +40,8 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
   const toml::table root = r.parse(text);
   ServiceConfig c;
   r.only(root, "the top level",
-         {"source", "object", "occlusion", "http", "output", "opencl", "pipeline", "bracket"});
+         {"source", "object", "occlusion", "http", "output", "opencl", "pipeline", "bracket",
+          "light"});
   if (auto* t = r.optional_table(root, "source")) {
     r.only(*t, "[source]", {"rig"});
     r.get(*t, "rig", c.source);
@@ -93,6 +94,16 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
     if (c.bracket.max_gain_db < 0) r.fail(t->get("max_gain_db"), "max_gain_db must be >= 0");
     if (!(initial_ms > 0)) r.fail(t->get("initial_exposure_ms"), "must be positive");
     if (c.trigger_line < 0) r.fail(t->get("gpio_line"), "gpio_line must be >= 0");
+  }
+  if (auto* t = r.optional_table(root, "light")) {
+    r.only(*t, "[light]", {"enabled", "face_size", "keyframe_distance_m"});
+    r.get(*t, "enabled", c.light_enabled);
+    r.get(*t, "face_size", c.light_face_size);
+    r.get(*t, "keyframe_distance_m", c.light_keyframe_distance_m);
+    if (c.light_face_size < 8 || c.light_face_size > 1024)
+      r.fail(t->get("face_size"), "face_size must be 8..1024");
+    if (!(c.light_keyframe_distance_m > 0))
+      r.fail(t->get("keyframe_distance_m"), "keyframe_distance_m must be positive");
   }
   if (auto* t = r.optional_table(root, "pipeline")) {
     r.only(*t, "[pipeline]", {"frames", "no_signal_after_ms"});

@@ -47,6 +47,11 @@ struct ServiceConfig {
   std::string trigger_chip;  // GPIO chip of the exposure trigger; empty: free-running camera
   int trigger_line = 0;
 
+  // [light]: the HDR environment-map keyframes kept from the fisheye (docs/light-capture.md).
+  bool light_enabled = true;
+  int light_face_size = 128;  // texels per cube face edge (the issue asks >= 128)
+  double light_keyframe_distance_m = 0.5;
+
   std::int64_t max_frames = 0;  // 0 = run until stopped
   // A source that has delivered nothing for this long is "no signal": outputs show the last
   // good frame with a NO SIGNAL banner. 250 ms is 7 frames at 30 Hz: long enough to ride out

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <mutex>
 
 #include "kernels/runtime/cl_error.hpp"
 
@@ -69,6 +70,12 @@ bool ClDeviceInfo::is_pocl() const {
 }
 
 std::vector<ClDeviceInfo> list_cl_devices() {
+  // ocl-icd loads its vendor list lazily on the first call and is not thread-safe while it
+  // does: the service's processing and light threads each open a context at start, and the
+  // loser of that race saw no platform at all (seen: "no OpenCL platform found" in one of
+  // them). One enumeration at a time.
+  static std::mutex enumeration;
+  std::lock_guard lock(enumeration);
   // The raw call first: the bindings throw on CL_PLATFORM_NOT_FOUND_KHR, which only means
   // that the loader has no driver registered.
   cl_uint count = 0;

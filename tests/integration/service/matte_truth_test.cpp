@@ -64,7 +64,7 @@ double matte_iou_over_run(const std::string& method, int frames) {
     total.uni += o.uni;
   }
   pipeline.stop();
-  EXPECT_FALSE(pipeline.fatal_error().has_value()) << *pipeline.fatal_error();
+  EXPECT_FALSE(pipeline.fatal_error().has_value()) << pipeline.fatal_error().value_or("");
   EXPECT_GT(with_occlusion, 5) << "the sim's arm should cross the object in this run";
   return total.uni ? static_cast<double>(total.intersection) / total.uni : 0.0;
 }

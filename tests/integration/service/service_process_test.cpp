@@ -83,6 +83,15 @@ TEST(Service, ServesStreamSnapshotAndStatusThenStopsOnSigterm) {
         return s.contains("fisheye_exposure") && s["fisheye_exposure"]["cycle"] >= 2;
       },
       60s));
+  // The light thread turns the bracketed frames into keyframes and their SH (issue #5).
+  ASSERT_TRUE(wait_status(
+      port, [](const auto& s) { return s["light"]["frames"] >= 8; }, 90s))
+      << get_status(port)["light"].dump();
+  const auto light = get_status(port)["light"];
+  EXPECT_EQ(light["state"], "running") << light.dump();
+  EXPECT_GE(light["keyframes"].get<int>(), 1);
+  EXPECT_EQ(light["frames_without_pose"], 0) << "the sim's frames carry their rig pose";
+  for (int c = 0; c < 3; ++c) EXPECT_GT(light["mean_radiance"][c].get<double>(), 0.0);
 
   JpegDecoder decoder;
   MjpegReader stream(port);

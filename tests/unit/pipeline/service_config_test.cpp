@@ -45,6 +45,9 @@ max_gain_db = 12
 initial_exposure_ms = 2.5
 gpio_chip = "gpiochip1"
 gpio_line = 17
+[light]
+face_size = 64
+keyframe_distance_m = 0.25
 )");
   EXPECT_EQ(c.source, "replay:/data/rec1");
   ASSERT_EQ(c.objects.size(), 2u);
@@ -64,6 +67,9 @@ gpio_line = 17
   EXPECT_DOUBLE_EQ(c.bracket.initial_exposure, 0.0025);
   EXPECT_EQ(c.trigger_chip, "gpiochip1");
   EXPECT_EQ(c.trigger_line, 17);
+  EXPECT_TRUE(c.light_enabled);
+  EXPECT_EQ(c.light_face_size, 64);
+  EXPECT_EQ(c.light_keyframe_distance_m, 0.25);
 }
 
 // A typo must not fall back silently to a default: the error names the key and its line.
@@ -91,6 +97,8 @@ TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[bracket]\ngpio_line = -1\n"), ParseError);
   EXPECT_THROW(parse_service_config("[bracket]\nenabled = 1\n"), ParseError);
   EXPECT_THROW(parse_service_config("[bracket]\nmains = 50\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nface_size = 4\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nkeyframe_distance_m = 0\n"), ParseError);
 }
 
 }  // namespace

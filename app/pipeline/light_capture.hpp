@@ -1,0 +1,63 @@
+#pragma once
+// The service's light stage (issue #5; docs/light-capture.md): its own thread takes every
+// fisheye frame of the bracket cycle and updates the HDR environment-map keyframes and their
+// SH through light::LightEstimator, on its own OpenCL queue so that it never waits for the
+// RGB-D frame path (nor that path for it). The rig pose at each fisheye frame comes from the
+// frame's ground truth when the source has it (the sim, a recording), else from the RGB-D
+// stream's poses interpolated to the fisheye timestamp, else the rig is taken as static at
+// the world origin (docs/configuration.md, "Where the rig pose comes from").
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stop_token>
+#include <string>
+
+#include "app/pipeline/service_config.hpp"
+#include "app/pipeline/stage_stats.hpp"
+#include "core/calibration.hpp"
+#include "core/frame.hpp"
+#include "core/sh.hpp"
+
+namespace probeless {
+
+class LightCapture {
+ public:
+  // Throws std::invalid_argument when the rig's fisheye model is not one the update kernel
+  // implements (Kannala-Brandt); the pipeline then runs without light capture and says so.
+  LightCapture(const ServiceConfig& config, const RigCalibration& calibration);
+  ~LightCapture();
+  LightCapture(const LightCapture&) = delete;
+  LightCapture& operator=(const LightCapture&) = delete;
+
+  // From the capture threads. A full queue drops the oldest frame (counted).
+  void push(FisheyeFrame frame);
+  void add_rig_pose(TimestampNs t, const Pose& T_world_rig);
+
+  // The light thread's body: until stop is requested. Builds the OpenCL context first.
+  void run(std::stop_token stop, StageStats& stats);
+
+  nlohmann::json status() const;
+  std::optional<ShRgb> latest_sh() const;  // radiance SH of the keyframe last updated
+
+ private:
+  std::optional<Pose> rig_pose_at(const FisheyeFrame& frame) const;
+
+  ServiceConfig config_;
+  RigCalibration calibration_;
+  struct Estimator;
+  std::unique_ptr<Estimator> estimator_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable_any arrived_;
+  std::deque<FisheyeFrame> queue_;
+  std::deque<std::pair<TimestampNs, Pose>> poses_;  // the last few seconds of RGB-D poses
+  std::uint64_t processed_ = 0, dropped_ = 0, without_pose_ = 0;
+  int keyframes_ = 0, active_keyframe_ = -1;
+  std::optional<ShRgb> sh_;
+  std::string state_ = "starting", error_;
+};
+
+}  // namespace probeless
