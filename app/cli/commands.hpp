@@ -26,6 +26,8 @@ void add_bench_composite_command(CLI::App& bench);
 void add_eval_occlusion_command(CLI::App& eval);
 // probeless eval hdr --image F.hdr [--bits 8|12] [--json F] (eval_hdr_command.cpp)
 void add_eval_hdr_command(CLI::App& eval);
+// probeless eval sh --probe F.hdr [--json F --scale S --convention z-up|y-up] (eval_sh_command.cpp)
+void add_eval_sh_command(CLI::App& eval);
 // probeless bench occlusion [--json FILE] (bench_occlusion_command.cpp)
 void add_bench_occlusion_command(CLI::App& bench);
 

@@ -28,7 +28,8 @@ ExposureStats ExposureCount::count(const DeviceImage<std::uint16_t, 3>& raw, int
   if (stats.pixels > static_cast<std::size_t>(std::numeric_limits<int>::max() / 3))
     throw std::invalid_argument("exposure count: frame too large");
   const int pixels = static_cast<int>(stats.pixels);
-  const int groups = std::clamp((pixels + kGroupSize - 1) / kGroupSize, 1, kMaxGroups);
+  // 4 pixels per work-item and step (exposure_count.cl).
+  const int groups = std::clamp((pixels / 4 + kGroupSize - 1) / kGroupSize, 1, kMaxGroups);
   int a = 0;
   kernel_.setArg(a++, raw.buffer());
   kernel_.setArg(a++, pixels);

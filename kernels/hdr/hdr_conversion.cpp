@@ -9,6 +9,10 @@
 
 namespace probeless {
 
+namespace {
+constexpr int kPixelsPerItem = 4;  // hdr_conversion.cl: 4 pixels of a row per work-item
+}  // namespace
+
 void validate(const HdrConversionParams& p) {
   if (!(p.saturation_fraction > 0.0f && p.saturation_fraction <= 1.0f))
     throw std::invalid_argument("HDR conversion: saturation_fraction must be in (0, 1]");
@@ -79,7 +83,7 @@ void HdrConversion::convert(const DeviceImage<std::uint16_t, 3>& raw, int bit_de
   kernel_.setArg(a++, c.circle_cx);
   kernel_.setArg(a++, c.circle_cy);
   kernel_.setArg(a++, c.circle_radius2);
-  ctx_.run_2d(kernel_, w, h);
+  ctx_.run_2d(kernel_, (w + kPixelsPerItem - 1) / kPixelsPerItem, h);
 }
 
 }  // namespace probeless

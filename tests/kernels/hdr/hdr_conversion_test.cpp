@@ -36,6 +36,24 @@ ImageRGB16 random_raw(int w, int h, int bits, std::uint16_t black, unsigned seed
   return raw;
 }
 
+// "" when equal, else where and how the first element differs (EXPECT_EQ on images prints
+// every byte).
+std::string first_difference(const ImageRGBAF& got, const ImageRGBAF& want) {
+  if (got.width() != want.width() || got.height() != want.height()) return "size differs";
+  for (int y = 0; y < got.height(); ++y) {
+    for (int x = 0; x < got.width(); ++x) {
+      for (int c = 0; c < 4; ++c) {
+        if (got.at(x, y, c) != want.at(x, y, c) &&
+            !(std::isnan(got.at(x, y, c)) && std::isnan(want.at(x, y, c))))
+          return "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") channel " +
+                 std::to_string(c) + ": " + std::to_string(got.at(x, y, c)) + " vs " +
+                 std::to_string(want.at(x, y, c));
+      }
+    }
+  }
+  return "";
+}
+
 struct Counts {
   int unusable = 0, usable = 0;
 };
@@ -73,7 +91,8 @@ TEST_P(HdrConversionTest, MatchesTheReferenceOnEverySize) {
     conversion.convert(raw, bits, black, exposure, out);
     const auto expected = hdr_conversion_reference(host, bits, black, exposure, params);
     // Exact: integer flags, single rounded float operations on both sides (FP_CONTRACT OFF).
-    EXPECT_EQ(out.download(ctx.queue()), expected) << w << "x" << h << " " << bits << " bit";
+    EXPECT_EQ(first_difference(out.download(ctx.queue()), expected), "")
+        << w << "x" << h << " " << bits << " bit";
     const Counts n = count(expected);
     total.usable += n.usable;
     total.unusable += n.unusable;
