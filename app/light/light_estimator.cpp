@@ -1,5 +1,6 @@
 #include "app/light/light_estimator.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <string>
