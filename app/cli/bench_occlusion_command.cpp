@@ -31,6 +31,7 @@ struct Options {
   int width = 640, height = 480;
   int frames = 200, warmup = 20, reference_frames = 30;
   int subsample = 0;  // 0 = CvfParams default
+  int profile_frames = 0;  // > 0: that many extra frames with a per-stage breakdown
 };
 
 struct Timing {
@@ -125,6 +126,24 @@ void run(const Options& o) {
   }
   const auto device_alpha = alpha.download(q);
 
+  // Per-stage breakdown (profiling mode: the queue drains after every stage, so the sum is
+  // somewhat above the unprofiled frame time). Median per stage over the profiled frames.
+  std::vector<std::pair<std::string, double>> stages;
+  if (o.profile_frames > 0) {
+    cvf.set_profiling(true);
+    std::vector<std::vector<double>> per_stage;
+    for (int i = 0; i < 5 + o.profile_frames; ++i) {
+      cvf.process({&color, &depth, &virt}, alpha);
+      if (i < 5) continue;
+      const auto& times = cvf.stage_times();
+      per_stage.resize(times.size());
+      for (std::size_t k = 0; k < times.size(); ++k) per_stage[k].push_back(times[k].ms);
+    }
+    for (std::size_t k = 0; k < per_stage.size(); ++k)
+      stages.emplace_back(cvf.stage_times()[k].stage, percentiles(per_stage[k]).p50);
+    cvf.set_profiling(false);
+  }
+
   std::vector<double> ref_ms;
   ImageF ref_alpha;
   for (int i = 0; i < 2 + o.reference_frames; ++i) {
@@ -157,6 +176,16 @@ void run(const Options& o) {
                            "-", mse_exact * 1e3)
             << fmt::format("speedup (p50): {:.2f}x; cvf MSE / exact MSE: {:.4f}\n", speedup,
                            mse_exact > 0 ? mse_device / mse_exact : 1.0);
+  if (!stages.empty()) {
+    double total = 0;
+    std::cout << fmt::format("cvf stages (median of {} profiled frames, queue drained after each):\n",
+                             o.profile_frames);
+    for (const auto& [stage, ms] : stages) {
+      std::cout << fmt::format("  {:<24} {:>7.2f} ms\n", stage, ms);
+      total += ms;
+    }
+    std::cout << fmt::format("  {:<24} {:>7.2f} ms\n", "sum", total);
+  }
   if (!o.json.empty()) {
     nlohmann::json j;
     j["cvf"] = {{"p50_ms", td.p50},
@@ -166,6 +195,7 @@ void run(const Options& o) {
     j["opencv_reference"] = {{"p50_ms", tr.p50}, {"p99_ms", tr.p99}, {"mse", mse_ref}};
     j["exact_reference"] = {{"mse", mse_exact}};
     j["speedup"] = speedup;
+    for (const auto& [stage, ms] : stages) j["cvf_stages_ms"][stage] = ms;
     j["input"] = input;
     j["device"] = ctx.describe();
     std::ofstream out(o.json);
@@ -189,6 +219,9 @@ void add_bench_occlusion_command(CLI::App& bench) {
       ->capture_default_str();
   cmd->add_option("--cvf-subsample", o->subsample,
                   "CVF's wide filter subsampling (1 = exact, 2 = fast guided filter)");
+  cmd->add_option("--profile", o->profile_frames,
+                  "Also run this many frames in profiling mode (queue drained after every "
+                  "stage) and print the median time per stage");
   cmd->callback([o] { run(*o); });
 }
 

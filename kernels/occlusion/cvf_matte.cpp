@@ -46,8 +46,22 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfParams& params)
   hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, sizeof(cl_uint) * 2 * b * b * b);
 }
 
+void CvfMatte::stage_done(const char* stage) {
+  if (!profiling_) return;
+  ctx_.queue().finish();
+  const auto now = std::chrono::steady_clock::now();
+  stage_times_.push_back(
+      {stage, std::chrono::duration<double, std::milli>(now - stage_start_).count()});
+  stage_start_ = now;
+}
+
 void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) {
   check_inputs(in, name());
+  stage_times_.clear();
+  if (profiling_) {
+    ctx_.queue().finish();
+    stage_start_ = std::chrono::steady_clock::now();
+  }
   const int w = in.width(), h = in.height();
   const auto& c = ctx_.context();
   alpha.resize(c, w, h);
@@ -59,9 +73,11 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   // 1. Depth test and erosion (thesis 3.3.1).
   categoriser_.run(in);
   const auto& categories = categoriser_.categories().buffer();
+  stage_done("categories");
 
   // 2. Colour models in the band around the process region (thesis 3.3.2).
   categoriser_.dilate(categoriser_.process_mask(), band_, params_.band_px);
+  stage_done("band");
   const int b = params_.bins_per_channel;
   ctx_.queue().enqueueFillBuffer(hist_, cl_uint{0}, 0, sizeof(cl_uint) * 2 * b * b * b);
   const std::size_t local = 256;
@@ -70,23 +86,29 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   set_args(histogram_, in.color->buffer(), categories, band_.buffer(), w * h, hist_);
   ctx_.queue().enqueueNDRangeKernel(histogram_, ::cl::NullRange, ::cl::NDRange(groups * local),
                                     ::cl::NDRange(local));
+  stage_done("histograms");
 
   // 3. Costs, packed with the guide at the wide filter's resolution (thesis 3.3.3).
   set_args(cost_pack_, in.color->buffer(), in.real_depth_mm->buffer(),
            in.virtual_depth_mm->buffer(), categories, hist_, std::max(1, params_.min_samples), w, h,
            wl, hl, wide_in_.buffer());
   run_pixels(ctx_, cost_pack_, wl, hl);
+  stage_done("costs");
 
   // 4. Wide guided filter on the costs, threshold on undecided pixels (thesis 3.3.4).
   wide_.coefficients(wide_in_, wide_ab_);
   wide_.apply(wide_ab_, &wide_mean_, nullptr, nullptr, nullptr);
+  stage_done("wide filter");
   set_args(mask_pack_, in.color->buffer(), categories, wide_mean_.buffer(), w, h, wl, hl,
            feather_in_.buffer());
   run_pixels(ctx_, mask_pack_, w, h);
+  stage_done("threshold");
 
   // 5. Narrow guided filter to feather; alpha = 1 - cost on the object.
   feather_.coefficients(feather_in_, feather_ab_);
+  stage_done("feather coefficients");
   feather_.apply(feather_ab_, nullptr, &feather_in_, in.virtual_depth_mm, &alpha);
+  stage_done("feather apply");
 }
 
 CvfDeviceTrace CvfMatte::download_trace() {

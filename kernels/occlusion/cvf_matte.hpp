@@ -3,7 +3,9 @@
 // categories with eroded borders, colour histograms in a band around the undecided region,
 // per-pixel costs, a wide guided filter, a threshold, a narrow guided filter. Everything stays
 // on the device between stages; cvf_reference.hpp is the CPU twin the tests compare with.
+#include <chrono>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "kernels/occlusion/categorise.hpp"
@@ -23,6 +25,13 @@ struct CvfDeviceTrace {
   Image<float, 4> feather_input;  // (r, g, b, mask) at full resolution
 };
 
+// Wall time of one stage of the last process() call, with the queue drained before and after
+// (profiling mode only: the finish() calls serialise the stages).
+struct CvfStageTime {
+  std::string stage;
+  double ms = 0;
+};
+
 class CvfMatte final : public OcclusionMethod {
  public:
   CvfMatte(ComputeContext& ctx, const CvfParams& params = {});
@@ -32,7 +41,14 @@ class CvfMatte final : public OcclusionMethod {
   const CvfParams& params() const { return params_; }
   CvfDeviceTrace download_trace();
 
+  // Profiling mode: process() waits for the queue after every stage and records the times in
+  // stage_times(). Off by default, where nothing waits.
+  void set_profiling(bool on) { profiling_ = on; }
+  const std::vector<CvfStageTime>& stage_times() const { return stage_times_; }
+
  private:
+  void stage_done(const char* stage);
+
   ComputeContext& ctx_;
   CvfParams params_;
   Categoriser categoriser_;
@@ -41,6 +57,9 @@ class CvfMatte final : public OcclusionMethod {
   DeviceImageGray8 band_;
   ::cl::Buffer hist_;
   DeviceImageF4 wide_in_, wide_ab_, wide_mean_, feather_in_, feather_ab_;
+  bool profiling_ = false;
+  std::vector<CvfStageTime> stage_times_;
+  std::chrono::steady_clock::time_point stage_start_;
 };
 
 }  // namespace probeless::occlusion
