@@ -30,7 +30,7 @@ struct Options {
   std::string scene;  // Middlebury scene directory; empty = look in the shared data
   int width = 640, height = 480;
   int frames = 200, warmup = 20, reference_frames = 30;
-  int subsample = 0;  // 0 = CvfParams default
+  int subsample = 0;       // 0 = CvfParams default
   int profile_frames = 0;  // > 0: that many extra frames with a per-stage breakdown
 };
 
@@ -178,8 +178,8 @@ void run(const Options& o) {
                            mse_exact > 0 ? mse_device / mse_exact : 1.0);
   if (!stages.empty()) {
     double total = 0;
-    std::cout << fmt::format("cvf stages (median of {} profiled frames, queue drained after each):\n",
-                             o.profile_frames);
+    std::cout << fmt::format(
+        "cvf stages (median of {} profiled frames, queue drained after each):\n", o.profile_frames);
     for (const auto& [stage, ms] : stages) {
       std::cout << fmt::format("  {:<24} {:>7.2f} ms\n", stage, ms);
       total += ms;

@@ -16,7 +16,8 @@ inline int colour_bin(uchar r, uchar g, uchar b) {
 
 // Colour models: joint RGB histograms of infront and behind pixels in the band. Each
 // work-group counts into local memory, then adds to the global counts
-// (hist[0..NBINS) infront, hist[NBINS..2 NBINS) behind), which start at zero.
+// (hist[0..NBINS) infront, hist[NBINS..2 NBINS) behind, then the two totals), which start at
+// zero.
 __kernel void cvf_histogram(__global const uchar* rgb, __global const uchar* categories,
                             __global const uchar* band, int n, __global uint* hist) {
   __local uint local_hist[2 * NBINS];
@@ -31,6 +32,11 @@ __kernel void cvf_histogram(__global const uchar* rgb, __global const uchar* cat
   barrier(CLK_LOCAL_MEM_FENCE);
   for (int k = get_local_id(0); k < 2 * NBINS; k += get_local_size(0))
     if (local_hist[k]) atomic_add(&hist[k], local_hist[k]);
+  if (get_local_id(0) < 2) {
+    uint total = 0;
+    for (int k = 0; k < NBINS; ++k) total += local_hist[get_local_id(0) * NBINS + k];
+    if (total) atomic_add(&hist[2 * NBINS + get_local_id(0)], total);
+  }
 }
 
 // Cost of one pixel (thesis 3.3.3; cvf_cost() in cvf_reference.cpp).

@@ -27,23 +27,33 @@ const CvfParams& checked(const CvfParams& p) {
   return p;
 }
 
+std::string cvf_options(const CvfParams& p) {
+  return fmt::format("-DBINS={} -DSUBSAMPLE={}", p.bins_per_channel, p.wide.subsample);
+}
+
+// A w x 4h planar image (4 planes of w x h) as an interleaved 4-channel one.
+Image<float, 4> from_planes(const ImageF& planes) {
+  const int w = planes.width(), h = planes.height() / 4;
+  Image<float, 4> out(w, h);
+  for (int c = 0; c < 4; ++c)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) out.at(x, y, c) = planes.at(x, c * h + y);
+  return out;
+}
+
 }  // namespace
 
-CvfMatte::CvfMatte(ComputeContext& ctx, const CvfParams& params)
+CvfMatte::CvfMatte(ComputeContext& ctx, const CvfParams& params, bool trace)
     : ctx_(ctx),
       params_(checked(params)),
       categoriser_(ctx, params.categorise),
-      wide_(ctx, low_radius(params.wide), params.wide.eps, GuidedFilter::Output::MeanCoefficients),
-      feather_(ctx, params.feather.radius, params.feather.eps,
-               GuidedFilter::Output::VisibilityFromCost) {
-  const auto opts =
-      fmt::format("-DBINS={} -DSUBSAMPLE={}", params.bins_per_channel, params.wide.subsample);
-  auto k = [&](const char* name) { return ctx.kernel("cvf", cl_source::cvf, opts, name); };
-  histogram_ = k("cvf_histogram");
-  cost_pack_ = k("cvf_cost_pack");
-  mask_pack_ = k("cvf_mask_pack");
-  const int b = params.bins_per_channel;
-  hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, sizeof(cl_uint) * 2 * b * b * b);
+      trace_(trace),
+      wide_(ctx, low_radius(params.wide), params.wide.eps, StripGuidedFilter::Input::CvfCost,
+            StripGuidedFilter::Output::MeanCoefficients, cvf_options(params), trace),
+      feather_(ctx, params.feather.radius, params.feather.eps, StripGuidedFilter::Input::CvfFeather,
+               StripGuidedFilter::Output::VisibilityFromCost, cvf_options(params), trace) {
+  histogram_ = ctx.kernel("cvf", cl_source::cvf, cvf_options(params), "cvf_histogram");
+  hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, hist_bytes());
 }
 
 void CvfMatte::stage_done(const char* stage) {
@@ -68,8 +78,11 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   if (alpha.empty()) return;
   const int s = params_.wide.subsample;
   const int wl = (w + s - 1) / s, hl = (h + s - 1) / s;
-  wide_in_.resize(c, wl, hl);
-  feather_in_.resize(c, w, h);
+  wide_mean_.resize(c, wl, 4 * hl);
+  if (trace_) {
+    wide_in_.resize(c, wl, 4 * hl);
+    feather_in_.resize(c, w, 4 * h);
+  }
   // 1. Depth test and erosion (thesis 3.3.1).
   categoriser_.run(in);
   const auto& categories = categoriser_.categories().buffer();
@@ -78,8 +91,7 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   // 2. Colour models in the band around the process region (thesis 3.3.2).
   categoriser_.dilate(categoriser_.process_mask(), band_, params_.band_px);
   stage_done("band");
-  const int b = params_.bins_per_channel;
-  ctx_.queue().enqueueFillBuffer(hist_, cl_uint{0}, 0, sizeof(cl_uint) * 2 * b * b * b);
+  ctx_.queue().enqueueFillBuffer(hist_, cl_uint{0}, 0, hist_bytes());
   const std::size_t local = 256;
   const std::size_t groups =
       std::clamp<std::size_t>((static_cast<std::size_t>(w) * h + 8191) / 8192, 1, 64);
@@ -88,27 +100,26 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
                                     ::cl::NDRange(local));
   stage_done("histograms");
 
-  // 3. Costs, packed with the guide at the wide filter's resolution (thesis 3.3.3).
-  set_args(cost_pack_, in.color->buffer(), in.real_depth_mm->buffer(),
-           in.virtual_depth_mm->buffer(), categories, hist_, std::max(1, params_.min_samples), w, h,
-           wl, hl, wide_in_.buffer());
-  run_pixels(ctx_, cost_pack_, wl, hl);
-  stage_done("costs");
+  // 3.-4. Costs (thesis 3.3.3), computed inside the wide guided filter at its resolution.
+  {
+    auto& k = wide_.kernel();
+    set_args_from(k, StripGuidedFilter::kFirstArg, in.color->buffer(), categories,
+                  in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), hist_,
+                  std::max(1, params_.min_samples), w, h, wide_mean_.buffer());
+    if (trace_) k.setArg(StripGuidedFilter::kFirstArg + 9, wide_in_.buffer());
+    wide_.run(wl, hl);
+  }
+  stage_done("costs + wide filter");
 
-  // 4. Wide guided filter on the costs, threshold on undecided pixels (thesis 3.3.4).
-  wide_.coefficients(wide_in_, wide_ab_);
-  wide_.apply(wide_ab_, &wide_mean_, nullptr, nullptr, nullptr);
-  stage_done("wide filter");
-  set_args(mask_pack_, in.color->buffer(), categories, wide_mean_.buffer(), w, h, wl, hl,
-           feather_in_.buffer());
-  run_pixels(ctx_, mask_pack_, w, h);
-  stage_done("threshold");
-
-  // 5. Narrow guided filter to feather; alpha = 1 - cost on the object.
-  feather_.coefficients(feather_in_, feather_ab_);
-  stage_done("feather coefficients");
-  feather_.apply(feather_ab_, nullptr, &feather_in_, in.virtual_depth_mm, &alpha);
-  stage_done("feather apply");
+  // 5. Threshold (thesis 3.3.4) inside the narrow guided filter that feathers; alpha = 1 - cost.
+  {
+    auto& k = feather_.kernel();
+    set_args_from(k, StripGuidedFilter::kFirstArg, in.color->buffer(), categories,
+                  wide_mean_.buffer(), wl, hl, in.virtual_depth_mm->buffer(), alpha.buffer());
+    if (trace_) k.setArg(StripGuidedFilter::kFirstArg + 7, feather_in_.buffer());
+    feather_.run(w, h);
+  }
+  stage_done("threshold + feather");
 }
 
 CvfDeviceTrace CvfMatte::download_trace() {
@@ -117,12 +128,14 @@ CvfDeviceTrace CvfMatte::download_trace() {
   t.categories = categoriser_.categories().download(q);
   t.band = band_.download(q);
   const int b = params_.bins_per_channel, n = b * b * b;
-  std::vector<cl_uint> hist(2 * static_cast<std::size_t>(n));
+  std::vector<cl_uint> hist(2 * static_cast<std::size_t>(n) + 2);
   q.enqueueReadBuffer(hist_, CL_TRUE, 0, sizeof(cl_uint) * hist.size(), hist.data());
   t.models = {b, std::vector<std::uint32_t>(hist.begin(), hist.begin() + n),
-              std::vector<std::uint32_t>(hist.begin() + n, hist.end())};
-  t.wide_input = wide_in_.download(q);
-  t.feather_input = feather_in_.download(q);
+              std::vector<std::uint32_t>(hist.begin() + n, hist.begin() + 2 * n)};
+  if (trace_) {
+    t.wide_input = from_planes(wide_in_.download(q));
+    t.feather_input = from_planes(feather_in_.download(q));
+  }
   return t;
 }
 

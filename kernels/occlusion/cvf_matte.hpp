@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "kernels/occlusion/categorise.hpp"
+#include "kernels/occlusion/cvf_guided.hpp"
 #include "kernels/occlusion/cvf_params.hpp"
 #include "kernels/occlusion/guided_filter.hpp"
 #include "kernels/occlusion/histogram_reference.hpp"
@@ -34,7 +35,8 @@ struct CvfStageTime {
 
 class CvfMatte final : public OcclusionMethod {
  public:
-  CvfMatte(ComputeContext& ctx, const CvfParams& params = {});
+  // With `trace`, the filters also store their inputs for download_trace() (tests).
+  CvfMatte(ComputeContext& ctx, const CvfParams& params = {}, bool trace = false);
   std::string name() const override { return "cvf"; }
   void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) override;
 
@@ -48,15 +50,22 @@ class CvfMatte final : public OcclusionMethod {
 
  private:
   void stage_done(const char* stage);
+  // Histogram buffer: infront and behind counts, then their two totals.
+  std::size_t hist_bytes() const {
+    const std::size_t b = params_.bins_per_channel;
+    return sizeof(cl_uint) * (2 * b * b * b + 2);
+  }
 
   ComputeContext& ctx_;
   CvfParams params_;
   Categoriser categoriser_;
-  ::cl::Kernel histogram_, cost_pack_, mask_pack_;
-  GuidedFilter wide_, feather_;
+  bool trace_;
+  ::cl::Kernel histogram_;
+  StripGuidedFilter wide_, feather_;
   DeviceImageGray8 band_;
   ::cl::Buffer hist_;
-  DeviceImageF4 wide_in_, wide_ab_, wide_mean_, feather_in_, feather_ab_;
+  // Planar images: plane c of a w x h image is rows [c h, (c + 1) h) of a w x 4h image.
+  DeviceImageF wide_mean_, wide_in_, feather_in_;
   bool profiling_ = false;
   std::vector<CvfStageTime> stage_times_;
   std::chrono::steady_clock::time_point stage_start_;

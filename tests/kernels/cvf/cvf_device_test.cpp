@@ -93,7 +93,7 @@ void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& param
                                   << params.wide.subsample);
   const auto s = random_scene(w, h, seed);
   const auto ref = cvf_reference(s.color, s.depth, s.virt, params);
-  CvfMatte cvf(context(), params);
+  CvfMatte cvf(context(), params, /*trace=*/true);
   DeviceImageRGB8 color(context(), s.color);
   DeviceDepthImage depth(context(), s.depth);
   DeviceImageF virt(context(), s.virt), alpha;
