@@ -31,11 +31,8 @@
 //   OUTPUT_MODE 3: alpha = q                                      (the plain filter, tests)
 // With TRACE=1 the input of every pixel is also stored as 4 planes (tests).
 
-#define VW 16
-#define PAD 48
+// (cvf_vector.cl is prepended: VW, PAD, vf, vi and the vector helpers.)
 #define NRING (2 * RADIUS + 2)
-typedef float16 vf;
-typedef int16 vi;
 
 #define CAT_IGNORE 0
 #define CAT_BEHIND 1
@@ -50,64 +47,10 @@ inline int ring_slot(int y) {
   return ((y % NRING) + NRING) % NRING;
 }
 
-inline vi lanes(void) {
-  return (vi)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-}
-
-// Inclusive prefix sum across the 16 lanes.
-inline vf prefix16(vf d) {
-  const vf z = (vf)(0.0f);
-  d += __builtin_shufflevector(z, d, 0, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29,
-                               30);
-  d += __builtin_shufflevector(z, d, 0, 1, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28,
-                               29);
-  d += __builtin_shufflevector(z, d, 0, 1, 2, 3, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27);
-  d += __builtin_shufflevector(z, d, 0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23);
-  return d;
-}
-
 // Window sums of the 16 columns from x on, from the running carry (the window sum of column
 // x - 1): S(x) = S(x - 1) + col(x + r) - col(x - r - 1). `col` points at column 0.
 inline vf window_sums(__global const float* col, int x, float* carry) {
-  const vf d = vload16(0, col + x + RADIUS) - vload16(0, col + x - RADIUS - 1);
-  const vf s = prefix16(d) + *carry;
-  *carry = s.sf;
-  return s;
-}
-
-// Stores the lanes of v that lie inside the row (x < w).
-inline void store_row(__global float* dst, int x0, int w, vf v) {
-  if (x0 + VW <= w) {
-    vstore16(v, 0, dst + x0);
-  } else {
-    float t[VW];
-    vstore16(v, 0, t);
-    for (int k = 0; x0 + k < w; ++k) dst[x0 + k] = t[k];
-  }
-}
-
-inline vf load_row(__global const float* src, int x0, int w) {
-  if (x0 + VW <= w) return vload16(0, src + x0);
-  float t[VW];
-  for (int k = 0; k < VW; ++k) t[k] = x0 + k < w ? src[x0 + k] : 0.0f;
-  return vload16(0, t);
-}
-
-// 16 interleaved RGB8 pixels (48 bytes) as three float vectors in [0, 255].
-inline void load_rgb16(__global const uchar* p, vf* r, vf* g, vf* b) {
-  const uchar16 a = vload16(0, p), m = vload16(1, p), c = vload16(2, p);
-  const uchar16 ra =
-      __builtin_shufflevector(a, m, 0, 3, 6, 9, 12, 15, 18, 21, 24, 27, 30, 0, 0, 0, 0, 0);
-  const uchar16 ga =
-      __builtin_shufflevector(a, m, 1, 4, 7, 10, 13, 16, 19, 22, 25, 28, 31, 0, 0, 0, 0, 0);
-  const uchar16 ba =
-      __builtin_shufflevector(a, m, 2, 5, 8, 11, 14, 17, 20, 23, 26, 29, 0, 0, 0, 0, 0, 0);
-  *r = convert_float16(
-      __builtin_shufflevector(ra, c, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 17, 20, 23, 26, 29));
-  *g = convert_float16(
-      __builtin_shufflevector(ga, c, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 18, 21, 24, 27, 30));
-  *b = convert_float16(
-      __builtin_shufflevector(ba, c, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 16, 19, 22, 25, 28, 31));
+  return running_window_sums(col, x, RADIUS, carry);
 }
 
 // ---- Inputs: input_row() fills 4 planes (r, g, b, p) for the 16 pixels from (x0, y) ------

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "kernels/occlusion/cvf_guided_cl.hpp"
+#include "kernels/occlusion/cvf_vector_cl.hpp"
 
 namespace probeless::occlusion {
 
@@ -16,7 +17,9 @@ StripGuidedFilter::StripGuidedFilter(ComputeContext& ctx, int radius, float eps,
         fmt::format("StripGuidedFilter: radius {} outside 0..{}", radius, kMaxRadius));
   const auto opts = fmt::format("-DRADIUS={} -DINPUT_MODE={} -DOUTPUT_MODE={} -DTRACE={} {}",
                                 radius, int(input), int(output), trace ? 1 : 0, extra_options);
-  kernel_ = ctx.kernel("cvf_guided", cl_source::cvf_guided, opts, "gf_strip");
+  static const std::string source =
+      std::string(cl_source::cvf_vector) + std::string(cl_source::cvf_guided);
+  kernel_ = ctx.kernel("cvf_guided", source, opts, "gf_strip");
 }
 
 void StripGuidedFilter::run(int w, int h) {

@@ -7,6 +7,7 @@
 
 #include "kernels/occlusion/cvf_cl.hpp"
 #include "kernels/occlusion/cvf_kernel_args.hpp"
+#include "kernels/occlusion/cvf_vector_cl.hpp"
 
 namespace probeless::occlusion {
 namespace {
@@ -46,13 +47,19 @@ Image<float, 4> from_planes(const ImageF& planes) {
 CvfMatte::CvfMatte(ComputeContext& ctx, const CvfParams& params, bool trace)
     : ctx_(ctx),
       params_(checked(params)),
-      categoriser_(ctx, params.categorise),
       trace_(trace),
       wide_(ctx, low_radius(params.wide), params.wide.eps, StripGuidedFilter::Input::CvfCost,
             StripGuidedFilter::Output::MeanCoefficients, cvf_options(params), trace),
       feather_(ctx, params.feather.radius, params.feather.eps, StripGuidedFilter::Input::CvfFeather,
                StripGuidedFilter::Output::VisibilityFromCost, cvf_options(params), trace) {
-  histogram_ = ctx.kernel("cvf", cl_source::cvf, cvf_options(params), "cvf_histogram");
+  if (params.categorise.erosion_px > 16 || params.band_px > 16)
+    throw std::invalid_argument("cvf: erosion and band radii must be <= 16");
+  static const std::string source =
+      std::string(cl_source::cvf_vector) + std::string(cl_source::cvf);
+  classify_ = ctx.kernel("cvf", source,
+                         fmt::format("{} -DEROSION={} -DBAND={}", cvf_options(params),
+                                     std::max(0, params.categorise.erosion_px), params.band_px),
+                         "cvf_classify");
   hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, hist_bytes());
 }
 
@@ -83,22 +90,30 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
     wide_in_.resize(c, wl, 4 * hl);
     feather_in_.resize(c, w, 4 * h);
   }
-  // 1. Depth test and erosion (thesis 3.3.1).
-  categoriser_.run(in);
-  const auto& categories = categoriser_.categories().buffer();
-  stage_done("categories");
-
-  // 2. Colour models in the band around the process region (thesis 3.3.2).
-  categoriser_.dilate(categoriser_.process_mask(), band_, params_.band_px);
-  stage_done("band");
+  // 1.-2. Depth test, erosion, band and colour models in one pass (thesis 3.3.1-3.3.2).
+  categories_.resize(c, w, h);
+  const auto& categories = categories_.buffer();
   ctx_.queue().enqueueFillBuffer(hist_, cl_uint{0}, 0, hist_bytes());
-  const std::size_t local = 256;
-  const std::size_t groups =
-      std::clamp<std::size_t>((static_cast<std::size_t>(w) * h + 8191) / 8192, 1, 64);
-  set_args(histogram_, in.color->buffer(), categories, band_.buffer(), w * h, hist_);
-  ctx_.queue().enqueueNDRangeKernel(histogram_, ::cl::NullRange, ::cl::NDRange(groups * local),
-                                    ::cl::NDRange(local));
-  stage_done("histograms");
+  {
+    const int units = std::max(1, static_cast<int>(ctx_.info().compute_units));
+    const int strips = std::clamp(h / 60, 1, 2 * units);
+    const int strip_rows = (h + strips - 1) / strips;
+    const int groups = (h + strip_rows - 1) / strip_rows;
+    const std::size_t srow = 48 + (static_cast<std::size_t>(w) + 15) / 16 * 16 + 48;
+    const std::size_t rows = 2 * params_.categorise.erosion_px + 2 + 3 + 2 * params_.band_px + 2;
+    const std::size_t bytes = sizeof(float) * srow * rows * groups;
+    if (bytes > classify_scratch_bytes_) {
+      classify_scratch_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, bytes);
+      classify_scratch_bytes_ = bytes;
+    }
+    set_args(classify_, w, h, strip_rows, params_.categorise.depth_tolerance_mm, classify_scratch_,
+             in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), in.color->buffer(),
+             categories, hist_);
+    ctx_.queue().enqueueNDRangeKernel(classify_, ::cl::NullRange,
+                                      ::cl::NDRange(1, static_cast<std::size_t>(groups)),
+                                      ::cl::NDRange(1, 1));
+  }
+  stage_done("categories + band + histograms");
 
   // 3.-4. Costs (thesis 3.3.3), computed inside the wide guided filter at its resolution.
   {
@@ -125,8 +140,13 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
 CvfDeviceTrace CvfMatte::download_trace() {
   auto& q = ctx_.queue();
   CvfDeviceTrace t;
-  t.categories = categoriser_.categories().download(q);
-  t.band = band_.download(q);
+  const auto packed = categories_.download(q);
+  t.categories = CategoryImage(packed.width(), packed.height());
+  t.band = ImageGray8(packed.width(), packed.height());
+  for (std::size_t i = 0; i < packed.elements().size(); ++i) {
+    t.categories.elements()[i] = packed.elements()[i] & 3;
+    t.band.elements()[i] = (packed.elements()[i] >> 2) & 1;
+  }
   const int b = params_.bins_per_channel, n = b * b * b;
   std::vector<cl_uint> hist(2 * static_cast<std::size_t>(n) + 2);
   q.enqueueReadBuffer(hist_, CL_TRUE, 0, sizeof(cl_uint) * hist.size(), hist.data());

@@ -8,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "kernels/occlusion/categorise.hpp"
 #include "kernels/occlusion/cvf_guided.hpp"
 #include "kernels/occlusion/cvf_params.hpp"
 #include "kernels/occlusion/guided_filter.hpp"
@@ -58,12 +57,12 @@ class CvfMatte final : public OcclusionMethod {
 
   ComputeContext& ctx_;
   CvfParams params_;
-  Categoriser categoriser_;
   bool trace_;
-  ::cl::Kernel histogram_;
+  ::cl::Kernel classify_;
   StripGuidedFilter wide_, feather_;
-  DeviceImageGray8 band_;
-  ::cl::Buffer hist_;
+  DeviceImageGray8 categories_;  // Category in bits 0-1, the band in bit 2 (cvf.cl)
+  ::cl::Buffer hist_, classify_scratch_;
+  std::size_t classify_scratch_bytes_ = 0;
   // Planar images: plane c of a w x h image is rows [c h, (c + 1) h) of a w x 4h image.
   DeviceImageF wide_mean_, wide_in_, feather_in_;
   bool profiling_ = false;
