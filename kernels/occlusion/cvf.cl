@@ -99,7 +99,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
       __global const float* own = raw + slot(t, NRAW) * srow;
       __global float* in = cat + slot(t, NCAT) * srow;
       __global const float* out = cat + slot(t - 2 * BAND - 1, NCAT) * srow;
-      float carry_in = 0.0f, carry_be = 0.0f;
+      vf carry_in = (vf)(0.0f), carry_be = (vf)(0.0f);
       for (int x0 = -VW; x0 < w; x0 += VW) {
         vf c = (vf)(0.0f);
         if (valid) {
@@ -123,7 +123,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
     const int yb = t - BAND;
     if (yb < y0) continue;
     __global const float* row = cat + slot(yb, NCAT) * srow;
-    float carry = 0.0f;
+    vf carry = (vf)(0.0f);
     for (int x0 = -VW; x0 < w; x0 += VW) {
       const vf near_pr = running_window_sums(count_pr, x0, BAND, &carry);
       if (x0 < 0) continue;

@@ -49,7 +49,7 @@ inline int ring_slot(int y) {
 
 // Window sums of the 16 columns from x on, from the running carry (the window sum of column
 // x - 1): S(x) = S(x - 1) + col(x + r) - col(x - r - 1). `col` points at column 0.
-inline vf window_sums(__global const float* col, int x, float* carry) {
+inline vf window_sums(__global const float* col, int x, vf* carry) {
   return running_window_sums(col, x, RADIUS, carry);
 }
 
@@ -65,7 +65,7 @@ inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
 inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
   return false;
 }
-inline void input_vec(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {}
+__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {}
 
 #elif INPUT_MODE == 1
 #define NBINS (BINS * BINS * BINS)
@@ -129,7 +129,7 @@ inline float4 input_pixel(int xl, int yl, int w, int h, INPUT_ARGS) {
 }
 
 // Costs of 16 full-resolution pixels from index i.
-inline vf cost_vec(int i, vf r, vf g, vf b, INPUT_ARGS) {
+__attribute__((always_inline)) inline vf cost_vec(int i, vf r, vf g, vf b, INPUT_ARGS) {
   const vi c = convert_int16(vload16(0, categories + i) & (uchar16)(3));
   vf cost = select((vf)(0.5f), (vf)(1.0f), c == CAT_INFRONT);
   cost = select(cost, (vf)(0.0f), c == CAT_BEHIND);
@@ -160,7 +160,7 @@ inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
 }
 
 // The 2x2 block averages of 32 x 2 full-resolution pixels.
-inline void input_vec(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {
+__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {
   vf s[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
   for (int dy = 0; dy < 2; ++dy) {
     vf q[2][4];
@@ -225,7 +225,7 @@ inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
 
 // 16 pixels from x0 (a multiple of 16): low-resolution columns x0/2 - 1 .. x0/2 + 8 hold
 // every bilinear neighbour; even lanes sit 3/4 of the way to the next one, odd lanes 1/4.
-inline void input_vec(int x0, int y, int w, int h, vf* out, INPUT_ARGS) {
+__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* out, INPUT_ARGS) {
   const int i = y * w + x0;
   vf r, g, b;
   load_rgb16(rgb + 3 * i, &r, &g, &b);
@@ -377,6 +377,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
                         v[1] * v[1] - o[1] * o[1],
                         v[1] * v[2] - o[1] * o[2],
                         v[2] * v[2] - o[2] * o[2]};
+#pragma unroll
       for (int c = 0; c < 13; ++c) {
         __global float* p = col + c * srow + x0;
         vstore16(vload16(0, p) + m[c], 0, p);
@@ -388,15 +389,18 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
     const bool leave_ab = t - 2 * RADIUS - 1 >= y0 - 3 * RADIUS;
     __global float* ab_in = ab_ring + ring_slot(t) * 4 * srow;
     __global const float* ab_out = ab_ring + ring_slot(t - 2 * RADIUS - 1) * 4 * srow;
-    float carry[13];
-    for (int c = 0; c < 13; ++c) carry[c] = 0.0f;
+    vf carry[13];
+#pragma unroll
+    for (int c = 0; c < 13; ++c) carry[c] = (vf)(0.0f);
     for (int x0 = -VW; x0 < w; x0 += VW) {
       vf ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
       if (ab_valid) {
         vf s[13];
+#pragma unroll
         for (int c = 0; c < 13; ++c) s[c] = window_sums(col + c * srow, x0, &carry[c]);
         if (x0 < 0) continue;
         const vf inv_n = inverse_counts(x0, t, w, h);
+#pragma unroll
         for (int c = 0; c < 13; ++c) s[c] *= inv_n;
         solve_coefficients(s, eps, ab);
         const vi inside = lanes() + x0 < w;
@@ -416,9 +420,10 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
     const int yo = t - RADIUS;
     if (yo < y0) continue;
     __global const float* guide = in_ring + ring_slot(yo) * 4 * srow;
-    float carry_ab[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    vf carry_ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
     for (int x0 = -VW; x0 < w; x0 += VW) {
       vf m[4];
+#pragma unroll
       for (int c = 0; c < 4; ++c) m[c] = window_sums(col_ab + c * srow, x0, &carry_ab[c]);
       if (x0 < 0) continue;
       const vf inv_n = inverse_counts(x0, yo, w, h);

@@ -24,12 +24,15 @@ inline vf prefix16(vf d) {
 }
 
 // Window sums over 2 r + 1 columns of the 16 columns from x on, from the running carry (the
-// window sum of column x - 1): S(x) = S(x - 1) + col(x + r) - col(x - r - 1), so the cost per
-// column does not depend on r (r <= 16, the zero padding). `col` points at column 0.
-inline vf running_window_sums(__global const float* col, int x, int r, float* carry) {
+// window sum of column x - 1 in every lane): S(x) = S(x - 1) + col(x + r) - col(x - r - 1), so
+// the cost per column does not depend on r (r <= 16, the zero padding). `col` points at
+// column 0. The carry stays a vector (a broadcast of lane 15): kept in a scalar, it went
+// through the stack and made a store-to-load chain of every row (perf, docs/occlusion.md).
+inline vf running_window_sums(__global const float* col, int x, int r, vf* carry) {
   const vf d = vload16(0, col + x + r) - vload16(0, col + x - r - 1);
   const vf s = prefix16(d) + *carry;
-  *carry = s.sf;
+  *carry = __builtin_shufflevector(s, s, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15,
+                                   15, 15);
   return s;
 }
 
