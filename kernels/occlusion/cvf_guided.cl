@@ -33,6 +33,11 @@
 
 // (cvf_vector.cl is prepended: VW, PAD, vf, vi and the vector helpers.)
 #define NRING (2 * RADIUS + 2)
+// The wide filter's mean coefficients (OUTPUT_MODE 0, read by INPUT_MODE 2) are stored with
+// MEAN_PAD columns on each side that repeat the edge values, so the feather filter's
+// bilinear upsampling is one vector path up to the image border (clamping there gives the
+// edge value, which interpolating between two copies of it reproduces exactly).
+#define MEAN_PAD 16
 
 #define CAT_IGNORE 0
 #define CAT_BEHIND 1
@@ -183,7 +188,8 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
 }
 
 #elif INPUT_MODE == 2
-// mean_ab: the wide filter's mean coefficients at 1/SUBSAMPLE resolution, 4 planes of wl x hl.
+// mean_ab: the wide filter's mean coefficients at 1/SUBSAMPLE resolution, 4 planes of wl x hl
+// with rows of wl + 2 MEAN_PAD (column x at MEAN_PAD + x).
 #define INPUT_ARGS                                                                         \
   __global const uchar *rgb, __global const uchar *categories, __global const float *mean_ab, \
       int wl, int hl
@@ -196,10 +202,10 @@ inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
   const int i = y * w + x;
   const float3 I = (float3)((float)rgb[3 * i], (float)rgb[3 * i + 1], (float)rgb[3 * i + 2]) *
                    (1.0f / 255.0f);
-  const int plane = wl * hl;
+  const int pitch = wl + 2 * MEAN_PAD, plane = pitch * hl;
   float m[4];
 #if SUBSAMPLE == 1
-  for (int c = 0; c < 4; ++c) m[c] = mean_ab[c * plane + i];
+  for (int c = 0; c < 4; ++c) m[c] = mean_ab[c * plane + y * pitch + MEAN_PAD + x];
 #else
   const float u = clamp(((float)x + 0.5f) / SUBSAMPLE - 0.5f, 0.0f, (float)(wl - 1));
   const float v = clamp(((float)y + 0.5f) / SUBSAMPLE - 0.5f, 0.0f, (float)(hl - 1));
@@ -207,9 +213,9 @@ inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
   const int x1 = min(x0 + 1, wl - 1), y1 = min(y0 + 1, hl - 1);
   const float tx = u - (float)x0, ty = v - (float)y0;
   for (int c = 0; c < 4; ++c) {
-    __global const float* p = mean_ab + c * plane;
-    const float top = mix(p[y0 * wl + x0], p[y0 * wl + x1], tx);
-    const float bot = mix(p[y1 * wl + x0], p[y1 * wl + x1], tx);
+    __global const float* p = mean_ab + c * plane + MEAN_PAD;
+    const float top = mix(p[y0 * pitch + x0], p[y0 * pitch + x1], tx);
+    const float bot = mix(p[y1 * pitch + x0], p[y1 * pitch + x1], tx);
     m[c] = mix(top, bot, ty);
   }
 #endif
@@ -220,11 +226,12 @@ inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
 }
 
 inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
-  return SUBSAMPLE == 2 && x0 >= VW && x0 + 2 * VW <= w;
+  return SUBSAMPLE == 2 && x0 + VW <= w;
 }
 
 // 16 pixels from x0 (a multiple of 16): low-resolution columns x0/2 - 1 .. x0/2 + 8 hold
-// every bilinear neighbour; even lanes sit 3/4 of the way to the next one, odd lanes 1/4.
+// every bilinear neighbour (the padding stands in for the clamp at the borders); even lanes
+// sit 3/4 of the way to the next one, odd lanes 1/4.
 __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* out, INPUT_ARGS) {
   const int i = y * w + x0;
   vf r, g, b;
@@ -237,11 +244,11 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
   const float ty = v - (float)y0;
   const vf tx = (vf)(0.75f, 0.25f, 0.75f, 0.25f, 0.75f, 0.25f, 0.75f, 0.25f, 0.75f, 0.25f, 0.75f,
                      0.25f, 0.75f, 0.25f, 0.75f, 0.25f);
-  const int l = x0 / 2 - 1, plane = wl * hl;
+  const int l = MEAN_PAD + x0 / 2 - 1, pitch = wl + 2 * MEAN_PAD, plane = pitch * hl;
   vf m[4];
   for (int c = 0; c < 4; ++c) {
-    const vf top = vload16(0, mean_ab + c * plane + y0 * wl + l);
-    const vf bot = vload16(0, mean_ab + c * plane + y1 * wl + l);
+    const vf top = vload16(0, mean_ab + c * plane + y0 * pitch + l);
+    const vf bot = vload16(0, mean_ab + c * plane + y1 * pitch + l);
     const vf t = mix(
         __builtin_shufflevector(top, top, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8),
         __builtin_shufflevector(top, top, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9), tx);
@@ -429,7 +436,15 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
       const vf inv_n = inverse_counts(x0, yo, w, h);
       for (int c = 0; c < 4; ++c) m[c] *= inv_n;
 #if OUTPUT_MODE == 0
-      for (int c = 0; c < 4; ++c) store_row(mean_out + c * plane + yo * w, x0, w, m[c]);
+      const int pitch = w + 2 * MEAN_PAD;
+      for (int c = 0; c < 4; ++c) {
+        __global float* row = mean_out + c * pitch * h + yo * pitch + MEAN_PAD;
+        store_row(row, x0, w, m[c]);
+        float t[VW];
+        vstore16(m[c], 0, t);
+        if (x0 == 0) vstore16((vf)(t[0]), 0, row - MEAN_PAD);
+        if (x0 + VW >= w) vstore16((vf)(t[w - 1 - x0]), 0, row + w);
+      }
 #else
       const vf q = m[0] * vload16(0, guide + x0) + m[1] * vload16(0, guide + srow + x0) +
                    m[2] * vload16(0, guide + 2 * srow + x0) + m[3];
