@@ -359,38 +359,6 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
     const bool leave_in = t - RADIUS - 1 >= first_in;
     __global float* ring_in = in_ring + ring_slot(yi) * 4 * srow;
     __global const float* ring_out = in_ring + ring_slot(t - RADIUS - 1) * 4 * srow;
-    for (int x0 = 0; x0 < w; x0 += VW) {
-      vf v[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
-      if (yi >= 0 && yi < h) input_row(x0, yi, w, h, v, INPUT_PASS);
-#if TRACE
-      if (yi >= y0 && yi < y1)
-        for (int c = 0; c < 4; ++c) store_row(trace_input + c * plane + yi * w, x0, w, v[c]);
-#endif
-      vf o[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
-      for (int c = 0; c < 4; ++c) {
-        vstore16(v[c], 0, ring_in + c * srow + x0);
-        if (leave_in) o[c] = vload16(0, ring_out + c * srow + x0);
-      }
-      const vf m[13] = {v[0] - o[0],
-                        v[1] - o[1],
-                        v[2] - o[2],
-                        v[3] - o[3],
-                        v[0] * v[3] - o[0] * o[3],
-                        v[1] * v[3] - o[1] * o[3],
-                        v[2] * v[3] - o[2] * o[3],
-                        v[0] * v[0] - o[0] * o[0],
-                        v[0] * v[1] - o[0] * o[1],
-                        v[0] * v[2] - o[0] * o[2],
-                        v[1] * v[1] - o[1] * o[1],
-                        v[1] * v[2] - o[1] * o[2],
-                        v[2] * v[2] - o[2] * o[2]};
-#pragma unroll
-      for (int c = 0; c < 13; ++c) {
-        __global float* p = col + c * srow + x0;
-        vstore16(vload16(0, p) + m[c], 0, p);
-      }
-    }
-
     // 2. Coefficients of row t (0 outside the image and before first_ab).
     const bool ab_valid = t >= first_ab && t >= 0 && t < h;
     const bool leave_ab = t - 2 * RADIUS - 1 >= y0 - 3 * RADIUS;
@@ -399,61 +367,101 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
     vf carry[13];
 #pragma unroll
     for (int c = 0; c < 13; ++c) carry[c] = (vf)(0.0f);
-    for (int x0 = -VW; x0 < w; x0 += VW) {
-      vf ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
-      if (ab_valid) {
-        vf s[13];
-#pragma unroll
-        for (int c = 0; c < 13; ++c) s[c] = window_sums(col + c * srow, x0, &carry[c]);
-        if (x0 < 0) continue;
-        const vf inv_n = inverse_counts(x0, t, w, h);
-#pragma unroll
-        for (int c = 0; c < 13; ++c) s[c] *= inv_n;
-        solve_coefficients(s, eps, ab);
-        const vi inside = lanes() + x0 < w;
-        for (int c = 0; c < 4; ++c) ab[c] = select((vf)(0.0f), ab[c], inside);
-      } else if (x0 < 0) {
-        continue;
-      }
-      for (int c = 0; c < 4; ++c) {
-        vstore16(ab[c], 0, ab_in + c * srow + x0);
-        const vf o = leave_ab ? vload16(0, ab_out + c * srow + x0) : (vf)(0.0f);
-        __global float* p = col_ab + c * srow + x0;
-        vstore16(vload16(0, p) + ab[c] - o, 0, p);
-      }
-    }
-
     // 3. Output row t - RADIUS: window means of (a, b), applied to the guide.
     const int yo = t - RADIUS;
-    if (yo < y0) continue;
+    const bool out_row = yo >= y0;
     __global const float* guide = in_ring + ring_slot(yo) * 4 * srow;
     vf carry_ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
-    for (int x0 = -VW; x0 < w; x0 += VW) {
+
+    // One pass along the row: step 2 runs one vector behind step 1 and step 3 one behind
+    // step 2, so each reads column sums (up to 16 columns ahead) that are already updated,
+    // while they are still in the L1 cache.
+    for (int x0 = 0; x0 < w + 2 * VW; x0 += VW) {
+      if (x0 < w) {
+        vf v[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
+        if (yi >= 0 && yi < h) input_row(x0, yi, w, h, v, INPUT_PASS);
+#if TRACE
+        if (yi >= y0 && yi < y1)
+          for (int c = 0; c < 4; ++c) store_row(trace_input + c * plane + yi * w, x0, w, v[c]);
+#endif
+        vf o[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
+        for (int c = 0; c < 4; ++c) {
+          vstore16(v[c], 0, ring_in + c * srow + x0);
+          if (leave_in) o[c] = vload16(0, ring_out + c * srow + x0);
+        }
+        const vf m[13] = {v[0] - o[0],
+                          v[1] - o[1],
+                          v[2] - o[2],
+                          v[3] - o[3],
+                          v[0] * v[3] - o[0] * o[3],
+                          v[1] * v[3] - o[1] * o[3],
+                          v[2] * v[3] - o[2] * o[3],
+                          v[0] * v[0] - o[0] * o[0],
+                          v[0] * v[1] - o[0] * o[1],
+                          v[0] * v[2] - o[0] * o[2],
+                          v[1] * v[1] - o[1] * o[1],
+                          v[1] * v[2] - o[1] * o[2],
+                          v[2] * v[2] - o[2] * o[2]};
+#pragma unroll
+        for (int c = 0; c < 13; ++c) {
+          __global float* p = col + c * srow + x0;
+          vstore16(vload16(0, p) + m[c], 0, p);
+        }
+      }
+
+      const int x2 = x0 - VW;
+      if (x2 < w && (ab_valid || x2 >= 0)) {
+        vf ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
+        if (ab_valid) {
+          vf s[13];
+#pragma unroll
+          for (int c = 0; c < 13; ++c) s[c] = window_sums(col + c * srow, x2, &carry[c]);
+          if (x2 >= 0) {
+            const vf inv_n = inverse_counts(x2, t, w, h);
+#pragma unroll
+            for (int c = 0; c < 13; ++c) s[c] *= inv_n;
+            solve_coefficients(s, eps, ab);
+            const vi inside = lanes() + x2 < w;
+            for (int c = 0; c < 4; ++c) ab[c] = select((vf)(0.0f), ab[c], inside);
+          }
+        }
+        if (x2 >= 0) {
+          for (int c = 0; c < 4; ++c) {
+            vstore16(ab[c], 0, ab_in + c * srow + x2);
+            const vf o = leave_ab ? vload16(0, ab_out + c * srow + x2) : (vf)(0.0f);
+            __global float* p = col_ab + c * srow + x2;
+            vstore16(vload16(0, p) + ab[c] - o, 0, p);
+          }
+        }
+      }
+
+      const int x3 = x0 - 2 * VW;
+      if (!out_row || x3 >= w) continue;
       vf m[4];
 #pragma unroll
-      for (int c = 0; c < 4; ++c) m[c] = window_sums(col_ab + c * srow, x0, &carry_ab[c]);
-      if (x0 < 0) continue;
-      const vf inv_n = inverse_counts(x0, yo, w, h);
+      for (int c = 0; c < 4; ++c) m[c] = window_sums(col_ab + c * srow, x3, &carry_ab[c]);
+      if (x3 < 0) continue;
+      const vf inv_n = inverse_counts(x3, yo, w, h);
       for (int c = 0; c < 4; ++c) m[c] *= inv_n;
 #if OUTPUT_MODE == 0
       const int pitch = w + 2 * MEAN_PAD;
       for (int c = 0; c < 4; ++c) {
         __global float* row = mean_out + c * pitch * h + yo * pitch + MEAN_PAD;
-        store_row(row, x0, w, m[c]);
-        float t[VW];
-        vstore16(m[c], 0, t);
-        if (x0 == 0) vstore16((vf)(t[0]), 0, row - MEAN_PAD);
-        if (x0 + VW >= w) vstore16((vf)(t[w - 1 - x0]), 0, row + w);
+        store_row(row, x3, w, m[c]);
+        float tm[VW];
+        vstore16(m[c], 0, tm);
+        if (x3 == 0) vstore16((vf)(tm[0]), 0, row - MEAN_PAD);
+        if (x3 + VW >= w) vstore16((vf)(tm[w - 1 - x3]), 0, row + w);
       }
 #else
-      const vf q = m[0] * vload16(0, guide + x0) + m[1] * vload16(0, guide + srow + x0) +
-                   m[2] * vload16(0, guide + 2 * srow + x0) + m[3];
+      const vf q = m[0] * vload16(0, guide + x3) + m[1] * vload16(0, guide + srow + x3) +
+                   m[2] * vload16(0, guide + 2 * srow + x3) + m[3];
 #if OUTPUT_MODE == 1
-      const vf vd = load_row(out_virtual_mm + yo * w, x0, w);
-      store_row(alpha + yo * w, x0, w,
+      const vf vd = load_row(out_virtual_mm + yo * w, x3, w);
+      store_row(alpha + yo * w, x3, w,
                 select((vf)(0.0f), clamp(1.0f - q, 0.0f, 1.0f), vd > 0.0f));
 #else
-      store_row(alpha + yo * w, x0, w, q);
+      store_row(alpha + yo * w, x3, w, q);
 #endif
 #endif
     }
