@@ -36,8 +36,8 @@ inline vf raw_categories(__global const ushort* real_mm, __global const float* v
                          int x0, int w, float tolerance_mm) {
   vf r, v;
   if (x0 + VW <= w) {
-    r = convert_float16(vload16(0, real_mm + i));
-    v = vload16(0, virtual_mm + i);
+    r = convert_float16(LOADU16(real_mm + i));
+    v = LOADF(virtual_mm + i);
   } else {
     float tr[VW], tv[VW];
     for (int k = 0; k < VW; ++k) {
@@ -82,14 +82,14 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
         const vf c = ye >= 0 && ye < h ? raw_categories(real_mm, virtual_mm, ye * w + x0, x0, w,
                                                         tolerance_mm)
                                        : (vf)(0.0f);
-        vstore16(c, 0, in + x0);
-        const vf o = leave ? vload16(0, out + x0) : (vf)(0.0f);
-        vstore16(vload16(0, count_in + x0) + select((vf)(0.0f), (vf)(1.0f), c == CAT_INFRONT) -
-                     select((vf)(0.0f), (vf)(1.0f), o == CAT_INFRONT),
-                 0, count_in + x0);
-        vstore16(vload16(0, count_be + x0) + select((vf)(0.0f), (vf)(1.0f), c == CAT_BEHIND) -
-                     select((vf)(0.0f), (vf)(1.0f), o == CAT_BEHIND),
-                 0, count_be + x0);
+        STOREF(in + x0, c);
+        const vf o = leave ? LOADF(out + x0) : (vf)(0.0f);
+        STOREF(count_in + x0, LOADF(count_in + x0) +
+                                   select((vf)(0.0f), (vf)(1.0f), c == CAT_INFRONT) -
+                                   select((vf)(0.0f), (vf)(1.0f), o == CAT_INFRONT));
+        STOREF(count_be + x0, LOADF(count_be + x0) +
+                                   select((vf)(0.0f), (vf)(1.0f), c == CAT_BEHIND) -
+                                   select((vf)(0.0f), (vf)(1.0f), o == CAT_BEHIND));
       }
     }
     // 2. Erosion of row t (thesis 3.3.1; process pixels do not erode).
@@ -106,17 +106,17 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
           const vf near_in = running_window_sums(count_in, x0, EROSION, &carry_in);
           const vf near_be = running_window_sums(count_be, x0, EROSION, &carry_be);
           if (x0 < 0) continue;
-          c = vload16(0, own + x0);
+          c = LOADF(own + x0);
           c = select(c, (vf)(CAT_PROCESS),
                      (c == CAT_INFRONT && near_be > 0.5f) || (c == CAT_BEHIND && near_in > 0.5f));
         } else if (x0 < 0) {
           continue;
         }
-        vstore16(c, 0, in + x0);
-        const vf o = leave ? vload16(0, out + x0) : (vf)(0.0f);
-        vstore16(vload16(0, count_pr + x0) + select((vf)(0.0f), (vf)(1.0f), c == CAT_PROCESS) -
-                     select((vf)(0.0f), (vf)(1.0f), o == CAT_PROCESS),
-                 0, count_pr + x0);
+        STOREF(in + x0, c);
+        const vf o = leave ? LOADF(out + x0) : (vf)(0.0f);
+        STOREF(count_pr + x0, LOADF(count_pr + x0) +
+                                   select((vf)(0.0f), (vf)(1.0f), c == CAT_PROCESS) -
+                                   select((vf)(0.0f), (vf)(1.0f), o == CAT_PROCESS));
       }
     }
     // 3. Band of row t - BAND (thesis 3.3.2), its categories out, its colours counted.
@@ -127,12 +127,12 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
     for (int x0 = -VW; x0 < w; x0 += VW) {
       const vf near_pr = running_window_sums(count_pr, x0, BAND, &carry);
       if (x0 < 0) continue;
-      const vf c = vload16(0, row + x0);
+      const vf c = LOADF(row + x0);
       const vi band = near_pr > 0.5f;
       const uchar16 byte = convert_uchar16(c) + convert_uchar16(-band) * (uchar16)(BAND_BIT);
       const int i = yb * w + x0;
       if (x0 + VW <= w) {
-        vstore16(byte, 0, categories + i);
+        STOREU8(categories + i, byte);
       } else {
         uchar t8[VW];
         vstore16(byte, 0, t8);

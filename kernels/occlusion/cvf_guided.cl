@@ -135,15 +135,15 @@ inline float4 input_pixel(int xl, int yl, int w, int h, INPUT_ARGS) {
 
 // Costs of 16 full-resolution pixels from index i.
 __attribute__((always_inline)) inline vf cost_vec(int i, vf r, vf g, vf b, INPUT_ARGS) {
-  const vi c = convert_int16(vload16(0, categories + i) & (uchar16)(3));
+  const vi c = convert_int16(LOADU8(categories + i) & (uchar16)(3));
   vf cost = select((vf)(0.5f), (vf)(1.0f), c == CAT_INFRONT);
   cost = select(cost, (vf)(0.0f), c == CAT_BEHIND);
   const vi process = c == CAT_PROCESS;
   if (any(process)) {
     vf pc;
     if (table[NBINS] == 0.0f) {
-      const vf d = convert_float16(vload16(0, real_mm + i));
-      const vf v = vload16(0, virtual_mm + i);
+      const vf d = convert_float16(LOADU16(real_mm + i));
+      const vf v = LOADF(virtual_mm + i);
       pc = select(select((vf)(0.0f), (vf)(1.0f), d < v), (vf)(0.5f), d == 0.0f);
     } else {
       const vi bin = ((convert_int16(r) * BINS / 256) * BINS + convert_int16(g) * BINS / 256) *
@@ -247,8 +247,8 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
   const int l = MEAN_PAD + x0 / 2 - 1, pitch = wl + 2 * MEAN_PAD, plane = pitch * hl;
   vf m[4];
   for (int c = 0; c < 4; ++c) {
-    const vf top = vload16(0, mean_ab + c * plane + y0 * pitch + l);
-    const vf bot = vload16(0, mean_ab + c * plane + y1 * pitch + l);
+    const vf top = LOADF(mean_ab + c * plane + y0 * pitch + l);
+    const vf bot = LOADF(mean_ab + c * plane + y1 * pitch + l);
     const vf t = mix(
         __builtin_shufflevector(top, top, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8),
         __builtin_shufflevector(top, top, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9), tx);
@@ -258,7 +258,7 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
     m[c] = mix(t, u, ty);
   }
   const vf q = m[0] * r + m[1] * g + m[2] * b + m[3];
-  const vi c = convert_int16(vload16(0, categories + i) & (uchar16)(3));
+  const vi c = convert_int16(LOADU8(categories + i) & (uchar16)(3));
   vf mask = select((vf)(0.0f), (vf)(1.0f), q > 0.5f);
   mask = select(mask, (vf)(1.0f), c == CAT_INFRONT);
   mask = select(mask, (vf)(0.0f), c == CAT_BEHIND);
@@ -386,8 +386,8 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
 #endif
         vf o[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
         for (int c = 0; c < 4; ++c) {
-          vstore16(v[c], 0, ring_in + c * srow + x0);
-          if (leave_in) o[c] = vload16(0, ring_out + c * srow + x0);
+          STOREF(ring_in + c * srow + x0, v[c]);
+          if (leave_in) o[c] = LOADF(ring_out + c * srow + x0);
         }
         const vf m[13] = {v[0] - o[0],
                           v[1] - o[1],
@@ -405,7 +405,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
 #pragma unroll
         for (int c = 0; c < 13; ++c) {
           __global float* p = col + c * srow + x0;
-          vstore16(vload16(0, p) + m[c], 0, p);
+          STOREF(p, LOADF(p) + m[c]);
         }
       }
 
@@ -427,10 +427,10 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
         }
         if (x2 >= 0) {
           for (int c = 0; c < 4; ++c) {
-            vstore16(ab[c], 0, ab_in + c * srow + x2);
-            const vf o = leave_ab ? vload16(0, ab_out + c * srow + x2) : (vf)(0.0f);
+            STOREF(ab_in + c * srow + x2, ab[c]);
+            const vf o = leave_ab ? LOADF(ab_out + c * srow + x2) : (vf)(0.0f);
             __global float* p = col_ab + c * srow + x2;
-            vstore16(vload16(0, p) + ab[c] - o, 0, p);
+            STOREF(p, LOADF(p) + ab[c] - o);
           }
         }
       }
@@ -450,12 +450,12 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
         store_row(row, x3, w, m[c]);
         float tm[VW];
         vstore16(m[c], 0, tm);
-        if (x3 == 0) vstore16((vf)(tm[0]), 0, row - MEAN_PAD);
-        if (x3 + VW >= w) vstore16((vf)(tm[w - 1 - x3]), 0, row + w);
+        if (x3 == 0) STOREF(row - MEAN_PAD, (vf)(tm[0]));
+        if (x3 + VW >= w) STOREF(row + w, (vf)(tm[w - 1 - x3]));
       }
 #else
-      const vf q = m[0] * vload16(0, guide + x3) + m[1] * vload16(0, guide + srow + x3) +
-                   m[2] * vload16(0, guide + 2 * srow + x3) + m[3];
+      const vf q = m[0] * LOADF(guide + x3) + m[1] * LOADF(guide + srow + x3) +
+                   m[2] * LOADF(guide + 2 * srow + x3) + m[3];
 #if OUTPUT_MODE == 1
       const vf vd = load_row(out_virtual_mm + yo * w, x3, w);
       store_row(alpha + yo * w, x3, w,

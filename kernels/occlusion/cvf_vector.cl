@@ -6,6 +6,17 @@
 #define PAD 48
 typedef float16 vf;
 typedef int16 vi;
+// Unaligned vector access to global memory. PoCL's vload16/vstore16 assembled a float16 from
+// eight 8-byte moves (perf); a dereference through a type with the element's alignment is one
+// unaligned vector move.
+typedef float16 __attribute__((aligned(4))) vf_unaligned;
+typedef uchar16 __attribute__((aligned(1))) uc16_unaligned;
+typedef ushort16 __attribute__((aligned(2))) us16_unaligned;
+#define LOADF(p) (*(__global const vf_unaligned*)(p))
+#define STOREF(p, v) (*(__global vf_unaligned*)(p) = (v))
+#define LOADU8(p) (*(__global const uc16_unaligned*)(p))
+#define STOREU8(p, v) (*(__global uc16_unaligned*)(p) = (v))
+#define LOADU16(p) (*(__global const us16_unaligned*)(p))
 
 inline vi lanes(void) {
   return (vi)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
@@ -29,7 +40,7 @@ inline vf prefix16(vf d) {
 // column 0. The carry stays a vector (a broadcast of lane 15): kept in a scalar, it went
 // through the stack and made a store-to-load chain of every row (perf, docs/occlusion.md).
 inline vf running_window_sums(__global const float* col, int x, int r, vf* carry) {
-  const vf d = vload16(0, col + x + r) - vload16(0, col + x - r - 1);
+  const vf d = LOADF(col + x + r) - LOADF(col + x - r - 1);
   const vf s = prefix16(d) + *carry;
   *carry = __builtin_shufflevector(s, s, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15,
                                    15, 15);
@@ -39,7 +50,7 @@ inline vf running_window_sums(__global const float* col, int x, int r, vf* carry
 // Stores the lanes of v that lie inside the row (x < w).
 inline void store_row(__global float* dst, int x0, int w, vf v) {
   if (x0 + VW <= w) {
-    vstore16(v, 0, dst + x0);
+    STOREF(dst + x0, v);
   } else {
     float t[VW];
     vstore16(v, 0, t);
@@ -48,7 +59,7 @@ inline void store_row(__global float* dst, int x0, int w, vf v) {
 }
 
 inline vf load_row(__global const float* src, int x0, int w) {
-  if (x0 + VW <= w) return vload16(0, src + x0);
+  if (x0 + VW <= w) return LOADF(src + x0);
   float t[VW];
   for (int k = 0; k < VW; ++k) t[k] = x0 + k < w ? src[x0 + k] : 0.0f;
   return vload16(0, t);
@@ -56,7 +67,7 @@ inline vf load_row(__global const float* src, int x0, int w) {
 
 // 16 interleaved RGB8 pixels (48 bytes) as three float vectors in [0, 255].
 inline void load_rgb16(__global const uchar* p, vf* r, vf* g, vf* b) {
-  const uchar16 a = vload16(0, p), m = vload16(1, p), c = vload16(2, p);
+  const uchar16 a = LOADU8(p), m = LOADU8(p + 16), c = LOADU8(p + 32);
   const uchar16 ra =
       __builtin_shufflevector(a, m, 0, 3, 6, 9, 12, 15, 18, 21, 24, 27, 30, 0, 0, 0, 0, 0);
   const uchar16 ga =
