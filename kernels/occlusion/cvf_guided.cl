@@ -271,7 +271,7 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
 
 // The input planes of 16 pixels from (x0, y): vectorised where the block lies inside, else
 // pixel by pixel; 0 outside the image.
-inline void input_row(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {
+__attribute__((always_inline)) inline void input_row(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {
   if (input_fast(x0, y, w, h, INPUT_PASS)) {
     input_vec(x0, y, w, h, v, INPUT_PASS);
     return;
