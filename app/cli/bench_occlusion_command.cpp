@@ -4,6 +4,7 @@
 // queue.finish(): the numbers are what the pipeline waits, not enqueue time.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -12,7 +13,6 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <random>
-#include <sys/resource.h>
 
 #include "app/cli/commands.hpp"
 #include "app/eval/cvf_opencv_reference.hpp"
@@ -201,10 +201,11 @@ void run(const Options& o) {
                            "opencv reference (CPU)", tr.p50, tr.p99, ref_cpu_ms, mse_ref * 1e3)
             << fmt::format("{:<34} {:>9} {:>9} {:>9} {:>10.4f}\n",
                            "exact reference (cvf_reference)", "-", "-", "-", mse_exact * 1e3)
-            << fmt::format("speedup (p50): {:.2f}x; cpu time ratio: {:.2f}x; cvf MSE / exact MSE: "
-                           "{:.4f}\n",
-                           speedup, device_cpu_ms > 0 ? ref_cpu_ms / device_cpu_ms : 0.0,
-                           mse_exact > 0 ? mse_device / mse_exact : 1.0)
+            << fmt::format(
+                   "speedup (p50): {:.2f}x; cpu time ratio: {:.2f}x; cvf MSE / exact MSE: "
+                   "{:.4f}\n",
+                   speedup, device_cpu_ms > 0 ? ref_cpu_ms / device_cpu_ms : 0.0,
+                   mse_exact > 0 ? mse_device / mse_exact : 1.0)
             << "(cpu ms: CPU time per frame over all threads; / cores bounds an idle machine's "
                "wall time from below)\n";
   if (!stages.empty()) {

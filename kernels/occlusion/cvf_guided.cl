@@ -61,7 +61,7 @@ inline vf window_sums(__global const float* col, int x, vf* carry) {
 // ---- Inputs: input_row() fills 4 planes (r, g, b, p) for the 16 pixels from (x0, y) ------
 
 #if INPUT_MODE == 0
-#define INPUT_ARGS __global const float4 *guide_p
+#define INPUT_ARGS __global const float4* guide_p
 #define INPUT_PASS guide_p
 #define INPUT_SETUP
 inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
@@ -70,27 +70,28 @@ inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
 inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
   return false;
 }
-__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {}
+__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* v,
+                                                     INPUT_ARGS) {}
 
 #elif INPUT_MODE == 1
 #define NBINS (BINS * BINS * BINS)
 // hist: infront counts [0, NBINS), behind [NBINS, 2 NBINS), then the two totals. table: the
 // process cost of every bin, table[NBINS] = 1 when the colour models are valid.
-#define INPUT_ARGS                                                                          \
+#define INPUT_ARGS                                                                             \
   __global const uchar *rgb, __global const uchar *categories, __global const ushort *real_mm, \
       __global const float *virtual_mm, __local const float *table, int full_w, int full_h
 #define INPUT_PASS rgb, categories, real_mm, virtual_mm, table, full_w, full_h
-#define INPUT_SETUP                                                                       \
-  __local float table[NBINS + 1];                                                         \
-  {                                                                                       \
-    const uint tin = hist[2 * NBINS], tbe = hist[2 * NBINS + 1];                          \
-    const bool valid = tin >= (uint)min_samples && tbe >= (uint)min_samples;             \
-    for (int k = 0; k < NBINS; ++k) {                                                     \
-      const float p_in = valid ? (float)hist[k] / (float)tin : 0.0f;                     \
-      const float p_be = valid ? (float)hist[NBINS + k] / (float)tbe : 0.0f;              \
-      table[k] = p_in + p_be > 0.0f ? p_in / (p_in + p_be) : 0.5f;                        \
-    }                                                                                     \
-    table[NBINS] = valid ? 1.0f : 0.0f;                                                   \
+#define INPUT_SETUP                                                          \
+  __local float table[NBINS + 1];                                            \
+  {                                                                          \
+    const uint tin = hist[2 * NBINS], tbe = hist[2 * NBINS + 1];             \
+    const bool valid = tin >= (uint)min_samples && tbe >= (uint)min_samples; \
+    for (int k = 0; k < NBINS; ++k) {                                        \
+      const float p_in = valid ? (float)hist[k] / (float)tin : 0.0f;         \
+      const float p_be = valid ? (float)hist[NBINS + k] / (float)tbe : 0.0f; \
+      table[k] = p_in + p_be > 0.0f ? p_in / (p_in + p_be) : 0.5f;           \
+    }                                                                        \
+    table[NBINS] = valid ? 1.0f : 0.0f;                                      \
   }
 
 inline int colour_bin(uint r, uint g, uint b) {
@@ -146,9 +147,9 @@ __attribute__((always_inline)) inline vf cost_vec(int i, vf r, vf g, vf b, INPUT
       const vf v = LOADF(virtual_mm + i);
       pc = select(select((vf)(0.0f), (vf)(1.0f), d < v), (vf)(0.5f), d == 0.0f);
     } else {
-      const vi bin = ((convert_int16(r) * BINS / 256) * BINS + convert_int16(g) * BINS / 256) *
-                         BINS +
-                     convert_int16(b) * BINS / 256;
+      const vi bin =
+          ((convert_int16(r) * BINS / 256) * BINS + convert_int16(g) * BINS / 256) * BINS +
+          convert_int16(b) * BINS / 256;
       int bins[VW];
       float t[VW];
       vstore16(bin, 0, bins);
@@ -165,7 +166,8 @@ inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
 }
 
 // The 2x2 block averages of 32 x 2 full-resolution pixels.
-__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {
+__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* v,
+                                                     INPUT_ARGS) {
   vf s[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
   for (int dy = 0; dy < 2; ++dy) {
     vf q[2][4];
@@ -190,7 +192,7 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
 #elif INPUT_MODE == 2
 // mean_ab: the wide filter's mean coefficients at 1/SUBSAMPLE resolution, 4 planes of wl x hl
 // with rows of wl + 2 MEAN_PAD (column x at MEAN_PAD + x).
-#define INPUT_ARGS                                                                         \
+#define INPUT_ARGS                                                                            \
   __global const uchar *rgb, __global const uchar *categories, __global const float *mean_ab, \
       int wl, int hl
 #define INPUT_PASS rgb, categories, mean_ab, wl, hl
@@ -200,8 +202,8 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
 // thresholded: infront 1, behind 0, else q > 0.5 (thesis 3.3.4), with the guide.
 inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
   const int i = y * w + x;
-  const float3 I = (float3)((float)rgb[3 * i], (float)rgb[3 * i + 1], (float)rgb[3 * i + 2]) *
-                   (1.0f / 255.0f);
+  const float3 I =
+      (float3)((float)rgb[3 * i], (float)rgb[3 * i + 1], (float)rgb[3 * i + 2]) * (1.0f / 255.0f);
   const int pitch = wl + 2 * MEAN_PAD, plane = pitch * hl;
   float m[4];
 #if SUBSAMPLE == 1
@@ -232,7 +234,8 @@ inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
 // 16 pixels from x0 (a multiple of 16): low-resolution columns x0/2 - 1 .. x0/2 + 8 hold
 // every bilinear neighbour (the padding stands in for the clamp at the borders); even lanes
 // sit 3/4 of the way to the next one, odd lanes 1/4.
-__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* out, INPUT_ARGS) {
+__attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* out,
+                                                     INPUT_ARGS) {
   const int i = y * w + x0;
   vf r, g, b;
   load_rgb16(rgb + 3 * i, &r, &g, &b);
@@ -249,12 +252,12 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
   for (int c = 0; c < 4; ++c) {
     const vf top = LOADF(mean_ab + c * plane + y0 * pitch + l);
     const vf bot = LOADF(mean_ab + c * plane + y1 * pitch + l);
-    const vf t = mix(
-        __builtin_shufflevector(top, top, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8),
-        __builtin_shufflevector(top, top, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9), tx);
-    const vf u = mix(
-        __builtin_shufflevector(bot, bot, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8),
-        __builtin_shufflevector(bot, bot, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9), tx);
+    const vf t =
+        mix(__builtin_shufflevector(top, top, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8),
+            __builtin_shufflevector(top, top, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9), tx);
+    const vf u =
+        mix(__builtin_shufflevector(bot, bot, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8),
+            __builtin_shufflevector(bot, bot, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9), tx);
     m[c] = mix(t, u, ty);
   }
   const vf q = m[0] * r + m[1] * g + m[2] * b + m[3];
@@ -271,7 +274,8 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
 
 // The input planes of 16 pixels from (x0, y): vectorised where the block lies inside, else
 // pixel by pixel; 0 outside the image.
-__attribute__((always_inline)) inline void input_row(int x0, int y, int w, int h, vf* v, INPUT_ARGS) {
+__attribute__((always_inline)) inline void input_row(int x0, int y, int w, int h, vf* v,
+                                                     INPUT_ARGS) {
   if (input_fast(x0, y, w, h, INPUT_PASS)) {
     input_vec(x0, y, w, h, v, INPUT_PASS);
     return;
@@ -290,8 +294,8 @@ __attribute__((always_inline)) inline void input_row(int x0, int y, int w, int h
 // ---- Outputs ------------------------------------------------------------------------------
 
 #if INPUT_MODE == 1
-#define KERNEL_INPUT_ARGS                                                                   \
-  __global const uchar *rgb, __global const uchar *categories, __global const ushort *real_mm, \
+#define KERNEL_INPUT_ARGS                                                                       \
+  __global const uchar *rgb, __global const uchar *categories, __global const ushort *real_mm,  \
       __global const float *virtual_mm, __global const uint *hist, int min_samples, int full_w, \
       int full_h
 #else
@@ -299,11 +303,11 @@ __attribute__((always_inline)) inline void input_row(int x0, int y, int w, int h
 #endif
 
 #if OUTPUT_MODE == 0
-#define OUTPUT_ARGS __global float *mean_out
+#define OUTPUT_ARGS __global float* mean_out
 #elif OUTPUT_MODE == 1
 #define OUTPUT_ARGS __global const float *out_virtual_mm, __global float *alpha
 #else
-#define OUTPUT_ARGS __global float *alpha
+#define OUTPUT_ARGS __global float* alpha
 #endif
 
 // a = (Sigma + eps U)^-1 cov(I, p), b = mean_p - a . mean_I, from the window means s.
@@ -329,21 +333,22 @@ inline vf inverse_counts(int x0, int y, int w, int h) {
   return 1.0f / (convert_float16(nx) * (float)window_count(y, h));
 }
 
-__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
-    int w, int h, int strip_rows, float eps, __global float* scratch, KERNEL_INPUT_ARGS,
-    OUTPUT_ARGS
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(int w, int h, int strip_rows,
+                                                                      float eps,
+                                                                      __global float* scratch,
+                                                                      KERNEL_INPUT_ARGS, OUTPUT_ARGS
 #if TRACE
-    ,
-    __global float* trace_input
+                                                                      ,
+                                                                      __global float* trace_input
 #endif
 ) {
   INPUT_SETUP
   const int srow = PAD + (w + VW - 1) / VW * VW + PAD;
   __global float* base = scratch + (size_t)get_group_id(1) * srow * (2 * 4 * NRING + 13 + 4);
-  __global float* in_ring = base + PAD;                   // [NRING][4] rows
-  __global float* col = in_ring + 4 * NRING * srow;       // [13] rows
-  __global float* ab_ring = col + 13 * srow;              // [NRING][4] rows
-  __global float* col_ab = ab_ring + 4 * NRING * srow;    // [4] rows
+  __global float* in_ring = base + PAD;                 // [NRING][4] rows
+  __global float* col = in_ring + 4 * NRING * srow;     // [13] rows
+  __global float* ab_ring = col + 13 * srow;            // [NRING][4] rows
+  __global float* col_ab = ab_ring + 4 * NRING * srow;  // [4] rows
   for (int k = -PAD; k < 13 * srow - PAD; ++k) col[k] = 0.0f;
   for (int k = -PAD; k < 4 * srow - PAD; ++k) col_ab[k] = 0.0f;
   const int y0 = (int)get_group_id(1) * strip_rows;
@@ -436,7 +441,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
       }
 
       const int x3 = x0 - 2 * VW;
-      if (!out_row || x3 >= w) continue;
+      if (!out_row || x3 < -VW || x3 >= w) continue;
       vf m[4];
 #pragma unroll
       for (int c = 0; c < 4; ++c) m[c] = window_sums(col_ab + c * srow, x3, &carry_ab[c]);
@@ -458,8 +463,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
                    m[2] * LOADF(guide + 2 * srow + x3) + m[3];
 #if OUTPUT_MODE == 1
       const vf vd = load_row(out_virtual_mm + yo * w, x3, w);
-      store_row(alpha + yo * w, x3, w,
-                select((vf)(0.0f), clamp(1.0f - q, 0.0f, 1.0f), vd > 0.0f));
+      store_row(alpha + yo * w, x3, w, select((vf)(0.0f), clamp(1.0f - q, 0.0f, 1.0f), vd > 0.0f));
 #else
       store_row(alpha + yo * w, x3, w, q);
 #endif

@@ -31,7 +31,7 @@ void StripGuidedFilter::run(int w, int h) {
   const int strip_rows = (h + strips - 1) / strips;
   const int groups = (h + strip_rows - 1) / strip_rows;
   const int nring = 2 * radius_ + 2;
-  const std::size_t srow = 48 + (static_cast<std::size_t>(w) + 15) / 16 * 16 + 48;
+  const std::size_t srow = StripGuidedFilter::scratch_row(w);
   const std::size_t bytes = sizeof(float) * srow * (8 * nring + 17) * groups;
   if (bytes > scratch_bytes_) {
     scratch_ = ::cl::Buffer(ctx_.context(), CL_MEM_READ_WRITE, bytes);

@@ -24,6 +24,11 @@ class StripGuidedFilter {
   };
   // Largest radius: the zero padding of the scratch rows covers 16 + r + 1 columns.
   static constexpr int kMaxRadius = 16;
+  // Zero columns on each side of a scratch row (PAD in cvf_vector.cl), and a row's floats.
+  static constexpr std::size_t kScratchPad = 48;
+  static std::size_t scratch_row(int width) {
+    return kScratchPad + (static_cast<std::size_t>(width) + 15) / 16 * 16 + kScratchPad;
+  }
 
   // `extra_options`: -DBINS / -DSUBSAMPLE for the CVF inputs. With `trace`, every pixel's input
   // (r, g, b, p) is also written to the trace buffer (tests).

@@ -99,7 +99,7 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
     const int strips = std::clamp(h / 60, 1, 2 * units);
     const int strip_rows = (h + strips - 1) / strips;
     const int groups = (h + strip_rows - 1) / strip_rows;
-    const std::size_t srow = 48 + (static_cast<std::size_t>(w) + 15) / 16 * 16 + 48;
+    const std::size_t srow = StripGuidedFilter::scratch_row(w);
     const std::size_t rows = 2 * params_.categorise.erosion_px + 2 + 3 + 2 * params_.band_px + 2;
     const std::size_t bytes = sizeof(float) * srow * rows * groups;
     if (bytes > classify_scratch_bytes_) {
