@@ -162,12 +162,23 @@ __attribute__((always_inline)) inline vf cost_vec(int i, vf r, vf g, vf b, INPUT
 }
 
 inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
-  return SUBSAMPLE == 2 && 2 * x0 + 2 * VW <= full_w && 2 * y + 1 < full_h;
+  return SUBSAMPLE == 1 ? x0 + VW <= w
+                        : SUBSAMPLE == 2 && 2 * x0 + 2 * VW <= full_w && 2 * y + 1 < full_h;
 }
 
-// The 2x2 block averages of 32 x 2 full-resolution pixels.
+// SUBSAMPLE 1: 16 pixels as they are; 2: the 2x2 block averages of 32 x 2 pixels.
 __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h, vf* v,
                                                      INPUT_ARGS) {
+#if SUBSAMPLE == 1
+  const int i = y * full_w + x0;
+  vf r, g, b;
+  load_rgb16(rgb + 3 * i, &r, &g, &b);
+  v[3] = cost_vec(i, r, g, b, INPUT_PASS);
+  v[0] = r * (1.0f / 255.0f);
+  v[1] = g * (1.0f / 255.0f);
+  v[2] = b * (1.0f / 255.0f);
+  return;
+#endif
   vf s[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
   for (int dy = 0; dy < 2; ++dy) {
     vf q[2][4];
@@ -228,7 +239,7 @@ inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
 }
 
 inline bool input_fast(int x0, int y, int w, int h, INPUT_ARGS) {
-  return SUBSAMPLE == 2 && x0 + VW <= w;
+  return (SUBSAMPLE == 1 || SUBSAMPLE == 2) && x0 + VW <= w;
 }
 
 // 16 pixels from x0 (a multiple of 16): low-resolution columns x0/2 - 1 .. x0/2 + 8 hold
@@ -242,13 +253,17 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
   r *= 1.0f / 255.0f;
   g *= 1.0f / 255.0f;
   b *= 1.0f / 255.0f;
+  vf m[4];
+#if SUBSAMPLE == 1
+  const int pitch1 = wl + 2 * MEAN_PAD;
+  for (int c = 0; c < 4; ++c) m[c] = LOADF(mean_ab + (c * hl + y) * pitch1 + MEAN_PAD + x0);
+#else
   const float v = clamp(((float)y + 0.5f) / SUBSAMPLE - 0.5f, 0.0f, (float)(hl - 1));
   const int y0 = (int)v, y1 = min(y0 + 1, hl - 1);
   const float ty = v - (float)y0;
   const vf tx = (vf)(0.75f, 0.25f, 0.75f, 0.25f, 0.75f, 0.25f, 0.75f, 0.25f, 0.75f, 0.25f, 0.75f,
                      0.25f, 0.75f, 0.25f, 0.75f, 0.25f);
   const int l = MEAN_PAD + x0 / 2 - 1, pitch = wl + 2 * MEAN_PAD, plane = pitch * hl;
-  vf m[4];
   for (int c = 0; c < 4; ++c) {
     const vf top = LOADF(mean_ab + c * plane + y0 * pitch + l);
     const vf bot = LOADF(mean_ab + c * plane + y1 * pitch + l);
@@ -260,6 +275,7 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
             __builtin_shufflevector(bot, bot, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9), tx);
     m[c] = mix(t, u, ty);
   }
+#endif
   const vf q = m[0] * r + m[1] * g + m[2] * b + m[3];
   const vi c = convert_int16(LOADU8(categories + i) & (uchar16)(3));
   vf mask = select((vf)(0.0f), (vf)(1.0f), q > 0.5f);
