@@ -343,10 +343,15 @@ inline void solve_coefficients(const vf* s, float eps, vf* ab) {
 }
 
 // 1 / pixels of the clipped windows of the 16 columns from x0 in row y.
-inline vf inverse_counts(int x0, int y, int w, int h) {
+// Pixels of the clipped windows of the 16 columns from x0 in row y.
+inline vf window_counts(int x0, int y, int w, int h) {
   const vi x = lanes() + x0;
   const vi nx = min(w - 1, x + RADIUS) - max(0, x - RADIUS) + 1;
-  return 1.0f / (convert_float16(nx) * (float)window_count(y, h));
+  return convert_float16(nx) * (float)window_count(y, h);
+}
+
+inline vf inverse_counts(int x0, int y, int w, int h) {
+  return 1.0f / window_counts(x0, y, w, h);
 }
 
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(int w, int h, int strip_rows,
@@ -438,10 +443,23 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(int w, int
 #pragma unroll
           for (int c = 0; c < 13; ++c) s[c] = window_sums(col + c * srow, x2, &carry[c]);
           if (x2 >= 0) {
-            const vf inv_n = inverse_counts(x2, t, w, h);
+            const vf n = window_counts(x2, t, w, h);
+#if INPUT_MODE != 0
+            // CVF's inputs lie in [0, 1], so a window sum of 0 or of n means p is constant
+            // over the window: then cov(I, p) = 0, a = 0 and b = p exactly, which is most of
+            // the frame (off the object and inside known regions); the solve is skipped there.
+            const vi flat = s[3] == 0.0f || s[3] == n;
+#else
+            const vi flat = (vi)(0);
+#endif
+            const vf inv_n = 1.0f / n;
 #pragma unroll
             for (int c = 0; c < 13; ++c) s[c] *= inv_n;
-            solve_coefficients(s, eps, ab);
+            if (!all(flat)) solve_coefficients(s, eps, ab);
+            ab[0] = select(ab[0], (vf)(0.0f), flat);
+            ab[1] = select(ab[1], (vf)(0.0f), flat);
+            ab[2] = select(ab[2], (vf)(0.0f), flat);
+            ab[3] = select(ab[3], s[3], flat);
             const vi inside = lanes() + x2 < w;
             for (int c = 0; c < 4; ++c) ab[c] = select((vf)(0.0f), ab[c], inside);
           }
