@@ -22,12 +22,16 @@ StripGuidedFilter::StripGuidedFilter(ComputeContext& ctx, int radius, float eps,
   kernel_ = ctx.kernel("cvf_guided", source, opts, "gf_strip");
 }
 
+int StripGuidedFilter::strip_count(int h, int warmup_rows, int units) {
+  units = std::max(1, units);
+  const int per_unit = h / (units * 4 * std::max(1, warmup_rows));
+  return std::clamp(per_unit, 1, 4) * units;
+}
+
 void StripGuidedFilter::run(int w, int h) {
   if (w <= 0 || h <= 0) return;
-  // Strips of rows, one work-item each: 4 per compute unit balance the load of a shared
-  // machine; each strip re-reads 3 r rows above it, so strips stay >= 8 (r + 1) rows tall.
-  const int units = std::max(1, static_cast<int>(ctx_.info().compute_units));
-  const int strips = std::clamp(h / (8 * (radius_ + 1)), 1, 4 * units);
+  // Strips of rows, one work-item each; a strip walks 3 r rows above it and r below.
+  const int strips = strip_count(h, 4 * radius_, static_cast<int>(ctx_.info().compute_units));
   const int strip_rows = (h + strips - 1) / strips;
   const int groups = (h + strip_rows - 1) / strip_rows;
   const int nring = 2 * radius_ + 2;

@@ -26,6 +26,11 @@ class StripGuidedFilter {
   static constexpr int kMaxRadius = 16;
   // Zero columns on each side of a scratch row (PAD in cvf_vector.cl), and a row's floats.
   static constexpr std::size_t kScratchPad = 48;
+  // Strips of rows for h rows on `units` compute units, when each strip also walks
+  // `warmup_rows` rows outside it: a multiple of the units (so an idle machine splits them
+  // evenly), as many as keep the warm-up within 1/4 of a strip, at most 4 per unit (more
+  // strips balance a loaded machine better; fewer waste less on warm-up).
+  static int strip_count(int h, int warmup_rows, int units);
   static std::size_t scratch_row(int width) {
     return kScratchPad + (static_cast<std::size_t>(width) + 15) / 16 * 16 + kScratchPad;
   }

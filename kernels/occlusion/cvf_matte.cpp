@@ -95,8 +95,10 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   const auto& categories = categories_.buffer();
   ctx_.queue().enqueueFillBuffer(hist_, cl_uint{0}, 0, hist_bytes());
   {
-    const int units = std::max(1, static_cast<int>(ctx_.info().compute_units));
-    const int strips = std::clamp(h / 60, 1, 2 * units);
+    // A strip walks 2 (erosion + band) rows outside it (cvf.cl).
+    const int strips =
+        StripGuidedFilter::strip_count(h, 2 * (params_.categorise.erosion_px + params_.band_px),
+                                       static_cast<int>(ctx_.info().compute_units));
     const int strip_rows = (h + strips - 1) / strips;
     const int groups = (h + strip_rows - 1) / strip_rows;
     const std::size_t srow = StripGuidedFilter::scratch_row(w);
