@@ -3,6 +3,8 @@
 // categories with eroded borders, colour histograms in a band around the undecided region,
 // per-pixel costs, a wide guided filter, a threshold, a narrow guided filter. Everything stays
 // on the device between stages; cvf_reference.hpp is the CPU twin the tests compare with.
+// Per frame: one fill and three row-streaming kernels (cvf.cl: categories, band and
+// histograms; cvf_guided.cl twice: costs + wide filter, threshold + feather filter).
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -10,7 +12,6 @@
 
 #include "kernels/occlusion/cvf_guided.hpp"
 #include "kernels/occlusion/cvf_params.hpp"
-#include "kernels/occlusion/guided_filter.hpp"
 #include "kernels/occlusion/histogram_reference.hpp"
 #include "kernels/occlusion/occlusion_method.hpp"
 
