@@ -79,17 +79,17 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
       __global float* in = raw + slot(ye, NRAW) * srow;
       __global const float* out = raw + slot(t - EROSION - 1, NRAW) * srow;
       for (int x0 = 0; x0 < w; x0 += VW) {
-        const vf c = ye >= 0 && ye < h ? raw_categories(real_mm, virtual_mm, ye * w + x0, x0, w,
-                                                        tolerance_mm)
-                                       : (vf)(0.0f);
+        const vf c = ye >= 0 && ye < h
+                         ? raw_categories(real_mm, virtual_mm, ye * w + x0, x0, w, tolerance_mm)
+                         : (vf)(0.0f);
         STOREF(in + x0, c);
         const vf o = leave ? LOADF(out + x0) : (vf)(0.0f);
         STOREF(count_in + x0, LOADF(count_in + x0) +
-                                   select((vf)(0.0f), (vf)(1.0f), c == CAT_INFRONT) -
-                                   select((vf)(0.0f), (vf)(1.0f), o == CAT_INFRONT));
+                                  select((vf)(0.0f), (vf)(1.0f), c == CAT_INFRONT) -
+                                  select((vf)(0.0f), (vf)(1.0f), o == CAT_INFRONT));
         STOREF(count_be + x0, LOADF(count_be + x0) +
-                                   select((vf)(0.0f), (vf)(1.0f), c == CAT_BEHIND) -
-                                   select((vf)(0.0f), (vf)(1.0f), o == CAT_BEHIND));
+                                  select((vf)(0.0f), (vf)(1.0f), c == CAT_BEHIND) -
+                                  select((vf)(0.0f), (vf)(1.0f), o == CAT_BEHIND));
       }
     }
     // 2. Erosion of row t (thesis 3.3.1; process pixels do not erode).
@@ -115,8 +115,8 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
         STOREF(in + x0, c);
         const vf o = leave ? LOADF(out + x0) : (vf)(0.0f);
         STOREF(count_pr + x0, LOADF(count_pr + x0) +
-                                   select((vf)(0.0f), (vf)(1.0f), c == CAT_PROCESS) -
-                                   select((vf)(0.0f), (vf)(1.0f), o == CAT_PROCESS));
+                                  select((vf)(0.0f), (vf)(1.0f), c == CAT_PROCESS) -
+                                  select((vf)(0.0f), (vf)(1.0f), o == CAT_PROCESS));
       }
     }
     // 3. Band of row t - BAND (thesis 3.3.2), its categories out, its colours counted.

@@ -25,10 +25,8 @@ inline vi lanes(void) {
 // Inclusive prefix sum across the 16 lanes.
 inline vf prefix16(vf d) {
   const vf z = (vf)(0.0f);
-  d += __builtin_shufflevector(z, d, 0, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29,
-                               30);
-  d += __builtin_shufflevector(z, d, 0, 1, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28,
-                               29);
+  d += __builtin_shufflevector(z, d, 0, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29, 30);
+  d += __builtin_shufflevector(z, d, 0, 1, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27, 28, 29);
   d += __builtin_shufflevector(z, d, 0, 1, 2, 3, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26, 27);
   d += __builtin_shufflevector(z, d, 0, 1, 2, 3, 4, 5, 6, 7, 16, 17, 18, 19, 20, 21, 22, 23);
   return d;
@@ -42,8 +40,8 @@ inline vf prefix16(vf d) {
 inline vf running_window_sums(__global const float* col, int x, int r, vf* carry) {
   const vf d = LOADF(col + x + r) - LOADF(col + x - r - 1);
   const vf s = prefix16(d) + *carry;
-  *carry = __builtin_shufflevector(s, s, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15,
-                                   15, 15);
+  *carry =
+      __builtin_shufflevector(s, s, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15, 15);
   return s;
 }
 
@@ -81,4 +79,3 @@ inline void load_rgb16(__global const uchar* p, vf* r, vf* g, vf* b) {
   *b = convert_float16(
       __builtin_shufflevector(ba, c, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 16, 19, 22, 25, 28, 31));
 }
-
