@@ -135,12 +135,14 @@ TEST(StripGuidedFilterDevice, RejectsRadiiBeyondThePadding) {
                std::invalid_argument);
 }
 
-void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& params) {
+void expect_cvf_matches_in(CvfLayout layout, int w, int h, std::uint32_t seed,
+                           const CvfParams& params) {
   SCOPED_TRACE(testing::Message() << w << "x" << h << " seed " << seed << " subsample "
-                                  << params.wide.subsample);
+                                  << params.wide.subsample << " layout " << int(layout));
   const auto s = random_scene(w, h, seed);
   const auto ref = cvf_reference(s.color, s.depth, s.virt, params);
-  CvfMatte cvf(context(), params, /*trace=*/true);
+  CvfMatte cvf(context(), params, /*trace=*/true, layout);
+  ASSERT_EQ(cvf.layout(), layout);
   DeviceImageRGB8 color(context(), s.color);
   DeviceDepthImage depth(context(), s.depth);
   DeviceImageF virt(context(), s.virt), alpha;
@@ -175,6 +177,17 @@ void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& param
     for (int x = 0; x < w; ++x)
       if (std::fabs(got.at(x, y) - ref.alpha.at(x, y)) > 1e-3F) ++far;
   EXPECT_LE(far, 25 * flips) << "alpha differs on " << far << " pixels";
+}
+
+// Both device layouts (row-streaming strips for CPUs, tiles for GPUs) on PoCL.
+void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& params) {
+  expect_cvf_matches_in(CvfLayout::Strips, w, h, seed, params);
+  expect_cvf_matches_in(CvfLayout::Tiles, w, h, seed, params);
+}
+
+TEST(CvfDevice, AutoLayoutIsStripsOnCpuDevices) {
+  CvfMatte cvf(context());
+  EXPECT_EQ(cvf.layout(), context().info().type == "CPU" ? CvfLayout::Strips : CvfLayout::Tiles);
 }
 
 TEST(CvfDevice, MatchesReferenceExactFilter) {
