@@ -26,6 +26,8 @@ class StripGuidedFilter {
   static constexpr int kMaxRadius = 16;
   // Zero columns on each side of a scratch row (PAD in cvf_vector.cl), and a row's floats.
   static constexpr std::size_t kScratchPad = 48;
+  // Replicated edge columns on each side of the mean coefficients (MEAN_PAD in cvf_guided.cl).
+  static constexpr int kMeanPad = 16;
   // Strips of rows for h rows on `units` compute units, when each strip also walks
   // `warmup_rows` rows outside it: a multiple of the units (so an idle machine splits them
   // evenly), as many as keep the warm-up within 1/4 of a strip, at most 4 per unit (more

@@ -157,7 +157,7 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
   if (alpha.empty()) return;
   const int s = params_.wide.subsample;
   const int wl = (w + s - 1) / s, hl = (h + s - 1) / s;
-  wide_mean_.resize(c, wl + 2 * 16, 4 * hl);  // MEAN_PAD columns each side (cvf_guided.cl)
+  wide_mean_.resize(c, wl + 2 * StripGuidedFilter::kMeanPad, 4 * hl);
   if (trace_) {
     wide_in_.resize(c, wl, 4 * hl);
     feather_in_.resize(c, w, 4 * h);
