@@ -4,6 +4,7 @@
 // queue.finish(): the numbers are what the pipeline waits, not enqueue time.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -30,7 +31,8 @@ struct Options {
   std::string scene;  // Middlebury scene directory; empty = look in the shared data
   int width = 640, height = 480;
   int frames = 200, warmup = 20, reference_frames = 30;
-  int subsample = 0;  // 0 = CvfParams default
+  int subsample = 0;       // 0 = CvfParams default
+  int profile_frames = 0;  // > 0: that many extra frames with a per-stage breakdown
 };
 
 struct Timing {
@@ -43,6 +45,24 @@ Timing percentiles(std::vector<double> ms) {
     return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * ms.size()))];
   };
   return {at(0.5), at(0.99)};
+}
+
+// CPU time of the whole process (every thread: PoCL's workers included), in ms. On a shared
+// machine the wall time of a frame grows with the load; the CPU time it costs does much less,
+// so CPU ms per frame / cores is a floor for the wall time on an idle machine.
+double process_cpu_ms() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 +
+         (u.ru_utime.tv_usec + u.ru_stime.tv_usec) * 1e-3;
+}
+
+// The 1, 5 and 15 minute load averages, for the record of a shared machine.
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string a, b, c;
+  in >> a >> b >> c;
+  return in ? a + " " + b + " " + c : std::string("unknown");
 }
 
 fs::path default_scene() {
@@ -116,24 +136,48 @@ void run(const Options& o) {
   DeviceDepthImage depth(ctx, frame.real_depth_mm);
   DeviceImageF virt(ctx, frame.virtual_depth_mm), alpha;
   std::vector<double> device_ms;
+  double cpu0 = 0;
   for (int i = 0; i < o.warmup + o.frames; ++i) {
+    if (i == o.warmup) cpu0 = process_cpu_ms();
     const auto t0 = Clock::now();
     cvf.process({&color, &depth, &virt}, alpha);
     q.finish();
     if (i >= o.warmup)
       device_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
+  const double device_cpu_ms = (process_cpu_ms() - cpu0) / std::max(1, o.frames);
   const auto device_alpha = alpha.download(q);
+
+  // Per-stage breakdown (profiling mode: the queue drains after every stage, so the sum is
+  // somewhat above the unprofiled frame time). Median per stage over the profiled frames.
+  std::vector<std::pair<std::string, double>> stages;
+  if (o.profile_frames > 0) {
+    cvf.set_profiling(true);
+    std::vector<std::vector<double>> per_stage;
+    for (int i = 0; i < 5 + o.profile_frames; ++i) {
+      cvf.process({&color, &depth, &virt}, alpha);
+      if (i < 5) continue;
+      const auto& times = cvf.stage_times();
+      per_stage.resize(times.size());
+      for (std::size_t k = 0; k < times.size(); ++k) per_stage[k].push_back(times[k].ms);
+    }
+    for (std::size_t k = 0; k < per_stage.size(); ++k)
+      stages.emplace_back(cvf.stage_times()[k].stage, percentiles(per_stage[k]).p50);
+    cvf.set_profiling(false);
+  }
 
   std::vector<double> ref_ms;
   ImageF ref_alpha;
+  double ref_cpu0 = 0;
   for (int i = 0; i < 2 + o.reference_frames; ++i) {
+    if (i == 2) ref_cpu0 = process_cpu_ms();
     const auto t0 = Clock::now();
     ref_alpha = eval::cvf_opencv_reference(frame.color, frame.real_depth_mm, frame.virtual_depth_mm,
                                            params);
     if (i >= 2)
       ref_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
+  const double ref_cpu_ms = (process_cpu_ms() - ref_cpu0) / std::max(1, o.reference_frames);
   occlusion::CvfParams exact = params;
   exact.wide.subsample = 1;
   const auto exact_alpha =
@@ -146,26 +190,47 @@ void run(const Options& o) {
   const auto td = percentiles(device_ms), tr = percentiles(ref_ms);
   const double speedup = tr.p50 / td.p50;
 
-  std::cout << fmt::format("input: {}\ndevice: {}\n", input, ctx.describe())
-            << fmt::format("{:<34} {:>9} {:>9} {:>10}\n", "", "p50 ms", "p99 ms", "MSE x1e3")
-            << fmt::format("{:<34} {:>9.2f} {:>9.2f} {:>10.4f}\n",
+  std::cout << fmt::format("input: {}\ndevice: {}\nload average: {}\n", input, ctx.describe(),
+                           load_average())
+            << fmt::format("{:<34} {:>9} {:>9} {:>9} {:>10}\n", "", "p50 ms", "p99 ms", "cpu ms",
+                           "MSE x1e3")
+            << fmt::format("{:<34} {:>9.2f} {:>9.2f} {:>9.2f} {:>10.4f}\n",
                            fmt::format("cvf (OpenCL, wide subsample {})", params.wide.subsample),
-                           td.p50, td.p99, mse_device * 1e3)
-            << fmt::format("{:<34} {:>9.2f} {:>9.2f} {:>10.4f}\n", "opencv reference (CPU)", tr.p50,
-                           tr.p99, mse_ref * 1e3)
-            << fmt::format("{:<34} {:>9} {:>9} {:>10.4f}\n", "exact reference (cvf_reference)", "-",
-                           "-", mse_exact * 1e3)
-            << fmt::format("speedup (p50): {:.2f}x; cvf MSE / exact MSE: {:.4f}\n", speedup,
-                           mse_exact > 0 ? mse_device / mse_exact : 1.0);
+                           td.p50, td.p99, device_cpu_ms, mse_device * 1e3)
+            << fmt::format("{:<34} {:>9.2f} {:>9.2f} {:>9.2f} {:>10.4f}\n",
+                           "opencv reference (CPU)", tr.p50, tr.p99, ref_cpu_ms, mse_ref * 1e3)
+            << fmt::format("{:<34} {:>9} {:>9} {:>9} {:>10.4f}\n",
+                           "exact reference (cvf_reference)", "-", "-", "-", mse_exact * 1e3)
+            << fmt::format(
+                   "speedup (p50): {:.2f}x; cpu time ratio: {:.2f}x; cvf MSE / exact MSE: "
+                   "{:.4f}\n",
+                   speedup, device_cpu_ms > 0 ? ref_cpu_ms / device_cpu_ms : 0.0,
+                   mse_exact > 0 ? mse_device / mse_exact : 1.0)
+            << "(cpu ms: CPU time per frame over all threads; / cores bounds an idle machine's "
+               "wall time from below)\n";
+  if (!stages.empty()) {
+    double total = 0;
+    std::cout << fmt::format(
+        "cvf stages (median of {} profiled frames, queue drained after each):\n", o.profile_frames);
+    for (const auto& [stage, ms] : stages) {
+      std::cout << fmt::format("  {:<24} {:>7.2f} ms\n", stage, ms);
+      total += ms;
+    }
+    std::cout << fmt::format("  {:<24} {:>7.2f} ms\n", "sum", total);
+  }
   if (!o.json.empty()) {
     nlohmann::json j;
     j["cvf"] = {{"p50_ms", td.p50},
                 {"p99_ms", td.p99},
+                {"cpu_ms", device_cpu_ms},
                 {"mse", mse_device},
                 {"wide_subsample", params.wide.subsample}};
-    j["opencv_reference"] = {{"p50_ms", tr.p50}, {"p99_ms", tr.p99}, {"mse", mse_ref}};
+    j["opencv_reference"] = {
+        {"p50_ms", tr.p50}, {"p99_ms", tr.p99}, {"cpu_ms", ref_cpu_ms}, {"mse", mse_ref}};
+    j["load_average"] = load_average();
     j["exact_reference"] = {{"mse", mse_exact}};
     j["speedup"] = speedup;
+    for (const auto& [stage, ms] : stages) j["cvf_stages_ms"][stage] = ms;
     j["input"] = input;
     j["device"] = ctx.describe();
     std::ofstream out(o.json);
@@ -189,6 +254,9 @@ void add_bench_occlusion_command(CLI::App& bench) {
       ->capture_default_str();
   cmd->add_option("--cvf-subsample", o->subsample,
                   "CVF's wide filter subsampling (1 = exact, 2 = fast guided filter)");
+  cmd->add_option("--profile", o->profile_frames,
+                  "Also run this many frames in profiling mode (queue drained after every "
+                  "stage) and print the median time per stage");
   cmd->callback([o] { run(*o); });
 }
 

@@ -1,119 +1,173 @@
-// Cost-volume-filtering occlusion (thesis ch. 3): the per-pixel steps around the guided
-// filters of guided_filter.cl. The device side of cvf_reference.cpp and
-// categorise_reference.cpp; docs/occlusion.md has the conventions.
+// Cost-volume-filtering occlusion (thesis ch. 3), first stage as ONE row-streaming kernel:
+// depth test, erosion of the infront/behind border, the band around the process region and
+// the colour histograms of the known pixels in the band. The device side of
+// categorise_reference.cpp and histogram_reference.cpp; docs/occlusion.md has the
+// conventions, cvf_vector.cl (prepended) the vector helpers and the strip layout.
 //
-// Build options: -DBINS=b (histogram bins per channel), -DSUBSAMPLE=s (the wide filter's).
+// One work-item per strip of rows, the whole width in float16 vectors. Per row t it
+//   1. takes the raw depth test of row t + EROSION into a ring and the running column counts
+//      of infront and behind pixels over 2 EROSION + 1 rows;
+//   2. turns them into window counts along the row (running sums, cvf_vector.cl): row t's
+//      infront pixels with a behind pixel in their window, and the reverse, become process;
+//      the categories go into a second ring with the running column count of process pixels;
+//   3. the same along the row over 2 BAND + 1 columns gives the band of row t - BAND; writes
+//      that row's categories (bits 0-1) with the band (bit 2), and counts the colours of its
+//      infront and behind pixels in the band into the work-group's histograms.
+// Counts are small integers, exact in float.
+//
+// Build options: -DEROSION=e -DBAND=b (radii, <= 16), -DBINS=n (histogram bins per channel).
 
 #define CAT_IGNORE 0
 #define CAT_BEHIND 1
 #define CAT_INFRONT 2
 #define CAT_PROCESS 3
 #define NBINS (BINS * BINS * BINS)
+#define NRAW (2 * EROSION + 2)
+#define NCAT (2 * BAND + 2)
+#define BAND_BIT 4
 
-inline int colour_bin(uchar r, uchar g, uchar b) {
-  return ((r * BINS / 256) * BINS + g * BINS / 256) * BINS + b * BINS / 256;
+inline int slot(int y, int n) {
+  return ((y % n) + n) % n;
 }
 
-// Colour models: joint RGB histograms of infront and behind pixels in the band. Each
-// work-group counts into local memory, then adds to the global counts
-// (hist[0..NBINS) infront, hist[NBINS..2 NBINS) behind), which start at zero.
-__kernel void cvf_histogram(__global const uchar* rgb, __global const uchar* categories,
-                            __global const uchar* band, int n, __global uint* hist) {
+// Raw depth test of 16 pixels from index i (x0 is their column): 0 off the object,
+// 3 unknown or within the tolerance, 2 real in front, 1 real behind.
+inline vf raw_categories(__global const ushort* real_mm, __global const float* virtual_mm, int i,
+                         int x0, int w, float tolerance_mm) {
+  vf r, v;
+  if (x0 + VW <= w) {
+    r = convert_float16(LOADU16(real_mm + i));
+    v = LOADF(virtual_mm + i);
+  } else {
+    float tr[VW], tv[VW];
+    for (int k = 0; k < VW; ++k) {
+      tr[k] = x0 + k < w ? (float)real_mm[i + k] : 0.0f;
+      tv[k] = x0 + k < w ? virtual_mm[i + k] : 0.0f;
+    }
+    r = vload16(0, tr);
+    v = vload16(0, tv);
+  }
+  vf c = select((vf)(CAT_BEHIND), (vf)(CAT_INFRONT), r < v);
+  c = select(c, (vf)(CAT_PROCESS), r == 0.0f || fabs(r - v) <= tolerance_mm);
+  return select((vf)(CAT_IGNORE), c, v > 0.0f);
+}
+
+// Scratch per strip: NRAW raw rows, 2 count rows, NCAT category rows, 1 count row.
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
+    int w, int h, int strip_rows, float tolerance_mm, __global float* scratch,
+    __global const ushort* real_mm, __global const float* virtual_mm, __global const uchar* rgb,
+    __global uchar* categories, __global uint* hist) {
   __local uint local_hist[2 * NBINS];
-  for (int k = get_local_id(0); k < 2 * NBINS; k += get_local_size(0)) local_hist[k] = 0;
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (int i = get_global_id(0); i < n; i += get_global_size(0)) {
-    const uchar c = categories[i];
-    if (!band[i] || (c != CAT_INFRONT && c != CAT_BEHIND)) continue;
-    const int bin = colour_bin(rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]);
-    atomic_inc(&local_hist[(c == CAT_INFRONT ? 0 : NBINS) + bin]);
+  for (int k = 0; k < 2 * NBINS; ++k) local_hist[k] = 0;
+  const int srow = PAD + (w + VW - 1) / VW * VW + PAD;
+  __global float* raw = scratch + (size_t)get_group_id(1) * srow * (NRAW + 3 + NCAT) + PAD;
+  __global float* count_in = raw + NRAW * srow;
+  __global float* count_be = count_in + srow;
+  __global float* cat = count_be + srow;
+  __global float* count_pr = cat + NCAT * srow;
+  for (int k = -PAD; k < srow - PAD; ++k) count_in[k] = count_be[k] = count_pr[k] = 0.0f;
+  const int y0 = (int)get_group_id(1) * strip_rows;
+  const int y1 = min(h, y0 + strip_rows);
+
+  const int first_cat = y0 - BAND, first_raw = first_cat - EROSION;
+  const int start = first_raw - EROSION;
+  for (int t = start; t < y1 + BAND; ++t) {
+    // 1. Raw row t + EROSION enters the column counts, row t - EROSION - 1 leaves.
+    {
+      const int ye = t + EROSION;
+      const bool leave = t - EROSION - 1 >= first_raw;
+      __global float* in = raw + slot(ye, NRAW) * srow;
+      __global const float* out = raw + slot(t - EROSION - 1, NRAW) * srow;
+      for (int x0 = 0; x0 < w; x0 += VW) {
+        const vf c = ye >= 0 && ye < h
+                         ? raw_categories(real_mm, virtual_mm, ye * w + x0, x0, w, tolerance_mm)
+                         : (vf)(0.0f);
+        STOREF(in + x0, c);
+        const vf o = leave ? LOADF(out + x0) : (vf)(0.0f);
+        STOREF(count_in + x0, LOADF(count_in + x0) +
+                                  select((vf)(0.0f), (vf)(1.0f), c == CAT_INFRONT) -
+                                  select((vf)(0.0f), (vf)(1.0f), o == CAT_INFRONT));
+        STOREF(count_be + x0, LOADF(count_be + x0) +
+                                  select((vf)(0.0f), (vf)(1.0f), c == CAT_BEHIND) -
+                                  select((vf)(0.0f), (vf)(1.0f), o == CAT_BEHIND));
+      }
+    }
+    // 2. Erosion of row t (thesis 3.3.1; process pixels do not erode).
+    {
+      const bool valid = t >= first_cat;
+      const bool leave = t - 2 * BAND - 1 >= start;
+      __global const float* own = raw + slot(t, NRAW) * srow;
+      __global float* in = cat + slot(t, NCAT) * srow;
+      __global const float* out = cat + slot(t - 2 * BAND - 1, NCAT) * srow;
+      vf carry_in = (vf)(0.0f), carry_be = (vf)(0.0f);
+      for (int x0 = -VW; x0 < w; x0 += VW) {
+        vf c = (vf)(0.0f);
+        if (valid) {
+          const vf near_in = running_window_sums(count_in, x0, EROSION, &carry_in);
+          const vf near_be = running_window_sums(count_be, x0, EROSION, &carry_be);
+          if (x0 < 0) continue;
+          c = LOADF(own + x0);
+          c = select(c, (vf)(CAT_PROCESS),
+                     (c == CAT_INFRONT && near_be > 0.5f) || (c == CAT_BEHIND && near_in > 0.5f));
+        } else if (x0 < 0) {
+          continue;
+        }
+        STOREF(in + x0, c);
+        const vf o = leave ? LOADF(out + x0) : (vf)(0.0f);
+        STOREF(count_pr + x0, LOADF(count_pr + x0) +
+                                  select((vf)(0.0f), (vf)(1.0f), c == CAT_PROCESS) -
+                                  select((vf)(0.0f), (vf)(1.0f), o == CAT_PROCESS));
+      }
+    }
+    // 3. Band of row t - BAND (thesis 3.3.2), its categories out, its colours counted.
+    const int yb = t - BAND;
+    if (yb < y0) continue;
+    __global const float* row = cat + slot(yb, NCAT) * srow;
+    vf carry = (vf)(0.0f);
+    for (int x0 = -VW; x0 < w; x0 += VW) {
+      const vf near_pr = running_window_sums(count_pr, x0, BAND, &carry);
+      if (x0 < 0) continue;
+      const vf c = LOADF(row + x0);
+      const vi band = near_pr > 0.5f;
+      const uchar16 byte = convert_uchar16(c) + convert_uchar16(-band) * (uchar16)(BAND_BIT);
+      const int i = yb * w + x0;
+      if (x0 + VW <= w) {
+        STOREU8(categories + i, byte);
+      } else {
+        uchar t8[VW];
+        vstore16(byte, 0, t8);
+        for (int k = 0; x0 + k < w; ++k) categories[i + k] = t8[k];
+      }
+      const vi known = band & (c == CAT_INFRONT || c == CAT_BEHIND);
+      if (!any(known)) continue;
+      int bins[VW], flags[VW];
+      if (x0 + VW <= w) {
+        vf r, g, b;
+        load_rgb16(rgb + 3 * i, &r, &g, &b);
+        const vi bin =
+            ((convert_int16(r) * BINS / 256) * BINS + convert_int16(g) * BINS / 256) * BINS +
+            convert_int16(b) * BINS / 256;
+        vstore16(bin, 0, bins);
+      } else {
+        for (int k = 0; k < VW; ++k) {
+          const int j = 3 * (i + min(k, w - 1 - x0));
+          bins[k] = ((rgb[j] * BINS / 256) * BINS + rgb[j + 1] * BINS / 256) * BINS +
+                    rgb[j + 2] * BINS / 256;
+        }
+      }
+      vstore16(select((vi)(0), (vi)(NBINS), c == CAT_BEHIND) | (known & (vi)(1 << 30)), 0, flags);
+      for (int k = 0; k < VW; ++k)
+        if (flags[k] & (1 << 30)) local_hist[(flags[k] & ~(1 << 30)) + bins[k]]++;
+    }
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
-  for (int k = get_local_id(0); k < 2 * NBINS; k += get_local_size(0))
+  // hist: infront counts [0, NBINS), behind [NBINS, 2 NBINS), then the two totals.
+  uint total_in = 0, total_be = 0;
+  for (int k = 0; k < NBINS; ++k) {
+    total_in += local_hist[k];
+    total_be += local_hist[NBINS + k];
     if (local_hist[k]) atomic_add(&hist[k], local_hist[k]);
-}
-
-// Cost of one pixel (thesis 3.3.3; cvf_cost() in cvf_reference.cpp).
-inline float pixel_cost(int c, int bin, __local const uint* h, float inv_in, float inv_be,
-                        int valid, ushort real_mm, float virtual_mm) {
-  if (c == CAT_INFRONT) return 1.0f;
-  if (c == CAT_BEHIND) return 0.0f;
-  if (c == CAT_IGNORE) return 0.5f;
-  if (!valid) return real_mm == 0 ? 0.5f : ((float)real_mm < virtual_mm ? 1.0f : 0.0f);
-  const float p_in = (float)h[bin] * inv_in, p_be = (float)h[NBINS + bin] * inv_be;
-  return p_in + p_be > 0.0f ? p_in / (p_in + p_be) : 0.5f;
-}
-
-// Packs the wide filter's input: (r, g, b, cost) averaged over SUBSAMPLE^2 blocks (the
-// in-image part), rgb in [0, 1]. One work-item per output pixel.
-__kernel void cvf_cost_pack(__global const uchar* rgb, __global const ushort* real_mm,
-                            __global const float* virtual_mm, __global const uchar* categories,
-                            __global const uint* hist, int min_samples, int w, int h, int wl,
-                            int hl, __global float4* packed) {
-  __local uint lh[2 * NBINS];
-  __local uint totals[2];
-  const int lid = get_local_id(1) * get_local_size(0) + get_local_id(0);
-  const int lsize = get_local_size(0) * get_local_size(1);
-  for (int k = lid; k < 2 * NBINS; k += lsize) lh[k] = hist[k];
-  barrier(CLK_LOCAL_MEM_FENCE);
-  if (lid == 0) {
-    uint a = 0, b = 0;
-    for (int k = 0; k < NBINS; ++k) {
-      a += lh[k];
-      b += lh[NBINS + k];
-    }
-    totals[0] = a;
-    totals[1] = b;
+    if (local_hist[NBINS + k]) atomic_add(&hist[NBINS + k], local_hist[NBINS + k]);
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
-  const int xl = get_global_id(0), yl = get_global_id(1);
-  if (xl >= wl || yl >= hl) return;
-  const int valid = totals[0] >= (uint)min_samples && totals[1] >= (uint)min_samples;
-  const float inv_in = valid ? 1.0f / (float)totals[0] : 0.0f;
-  const float inv_be = valid ? 1.0f / (float)totals[1] : 0.0f;
-  float4 sum = (float4)(0.0f);
-  int n = 0;
-  for (int dy = 0; dy < SUBSAMPLE; ++dy)
-    for (int dx = 0; dx < SUBSAMPLE; ++dx) {
-      const int x = xl * SUBSAMPLE + dx, y = yl * SUBSAMPLE + dy;
-      if (x >= w || y >= h) continue;
-      const int i = y * w + x;
-      const uchar r = rgb[3 * i], g = rgb[3 * i + 1], b = rgb[3 * i + 2];
-      const float cost = pixel_cost(categories[i], colour_bin(r, g, b), lh, inv_in, inv_be, valid,
-                                    real_mm[i], virtual_mm[i]);
-      sum += (float4)((float)r, (float)g, (float)b, 0.0f) * (1.0f / 255.0f) +
-             (float4)(0.0f, 0.0f, 0.0f, cost);
-      ++n;
-    }
-  packed[yl * wl + xl] = sum / (float)n;
-}
-
-// The wide filter's output at full resolution (mean a, b upsampled bilinearly when
-// SUBSAMPLE > 1), thresholded: infront 1, behind 0, else q > 0.5. Packs (r, g, b, mask) for
-// the feather filter.
-__kernel void cvf_mask_pack(__global const uchar* rgb, __global const uchar* categories,
-                            __global const float4* mean_ab, int w, int h, int wl, int hl,
-                            __global float4* packed) {
-  const int x = get_global_id(0), y = get_global_id(1);
-  if (x >= w || y >= h) return;
-  const int i = y * w + x;
-  const float4 I = (float4)((float)rgb[3 * i], (float)rgb[3 * i + 1], (float)rgb[3 * i + 2], 0.0f) *
-                   (1.0f / 255.0f);
-  float4 m;
-#if SUBSAMPLE == 1
-  m = mean_ab[i];
-#else
-  const float u = clamp(((float)x + 0.5f) / SUBSAMPLE - 0.5f, 0.0f, (float)(wl - 1));
-  const float v = clamp(((float)y + 0.5f) / SUBSAMPLE - 0.5f, 0.0f, (float)(hl - 1));
-  const int x0 = (int)u, y0 = (int)v;
-  const int x1 = min(x0 + 1, wl - 1), y1 = min(y0 + 1, hl - 1);
-  const float tx = u - (float)x0, ty = v - (float)y0;
-  const float4 top = mix(mean_ab[y0 * wl + x0], mean_ab[y0 * wl + x1], tx);
-  const float4 bot = mix(mean_ab[y1 * wl + x0], mean_ab[y1 * wl + x1], tx);
-  m = mix(top, bot, ty);
-#endif
-  const float q = m.x * I.x + m.y * I.y + m.z * I.z + m.w;
-  const uchar c = categories[i];
-  const float mask = c == CAT_INFRONT ? 1.0f : c == CAT_BEHIND ? 0.0f : (q > 0.5f ? 1.0f : 0.0f);
-  packed[i] = (float4)(I.x, I.y, I.z, mask);
+  if (total_in) atomic_add(&hist[2 * NBINS], total_in);
+  if (total_be) atomic_add(&hist[2 * NBINS + 1], total_be);
 }

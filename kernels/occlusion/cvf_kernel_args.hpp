@@ -9,6 +9,13 @@
 
 namespace probeless::occlusion {
 
+// Sets arguments first, first + 1, ...
+template <typename... Args>
+void set_args_from(::cl::Kernel& kernel, cl_uint first, Args&&... args) {
+  cl_uint index = first;
+  (kernel.setArg(index++, std::forward<Args>(args)), ...);
+}
+
 template <typename... Args>
 void set_args(::cl::Kernel& kernel, Args&&... args) {
   cl_uint index = 0;

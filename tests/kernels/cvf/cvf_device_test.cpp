@@ -5,6 +5,8 @@
 #include <cmath>
 #include <random>
 
+#include "kernels/occlusion/cvf_guided.hpp"
+#include "kernels/occlusion/cvf_kernel_args.hpp"
 #include "kernels/occlusion/cvf_matte.hpp"
 #include "kernels/occlusion/cvf_reference.hpp"
 #include "kernels/occlusion/guided_filter.hpp"
@@ -88,12 +90,59 @@ TEST(GuidedFilterDevice, MatchesReferenceOnRandomSizes) {
     }
 }
 
-void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& params) {
+// The row-streaming filter (cvf_guided.cl) on packed input against the reference: odd widths
+// (partial vectors of 16), heights that make several strips, radii up to the maximum.
+TEST(StripGuidedFilterDevice, MatchesReferenceOnRandomSizes) {
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> u(0.0F, 1.0F);
+  const int sizes[][2] = {{1, 1}, {7, 5}, {17, 3}, {63, 17}, {65, 33}, {131, 47}, {37, 260}};
+  const struct {
+    int r;
+    float eps;
+  } cases[] = {{0, 0.01F}, {1, 0.3F}, {3, 0.0025F}, {6, 0.0025F}, {16, 0.01F}};
+  for (const auto& cs : cases) {
+    StripGuidedFilter gf(context(), cs.r, cs.eps, StripGuidedFilter::Input::Packed,
+                         StripGuidedFilter::Output::Raw);
+    for (const auto& sz : sizes) {
+      const int w = sz[0], h = sz[1];
+      ImageRGBF guide(w, h);
+      ImageF p(w, h);
+      Image<float, 4> packed(w, h);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          for (int c = 0; c < 3; ++c)
+            guide.at(x, y, c) = packed.at(x, y, c) =
+                ((x / 4 + y / 3 + c) % 3) * 0.3F + 0.1F * u(rng);
+          p.at(x, y) = packed.at(x, y, 3) = u(rng) < 0.5F ? 0.0F : 1.0F;
+        }
+      DeviceImageF4 in(context(), packed);
+      DeviceImageF out(context(), w, h);
+      set_args_from(gf.kernel(), StripGuidedFilter::kFirstArg, in.buffer(), out.buffer());
+      gf.run(w, h);
+      const auto got = download(out);
+      const auto want = guided_filter_reference(guide, p, {cs.r, cs.eps, 1});
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          ASSERT_NEAR(got.at(x, y), want.at(x, y), 2e-4)
+              << w << "x" << h << " r=" << cs.r << " at " << x << "," << y;
+    }
+  }
+}
+
+TEST(StripGuidedFilterDevice, RejectsRadiiBeyondThePadding) {
+  EXPECT_THROW(StripGuidedFilter(context(), StripGuidedFilter::kMaxRadius + 1, 0.01F,
+                                 StripGuidedFilter::Input::Packed, StripGuidedFilter::Output::Raw),
+               std::invalid_argument);
+}
+
+void expect_cvf_matches_in(CvfLayout layout, int w, int h, std::uint32_t seed,
+                           const CvfParams& params) {
   SCOPED_TRACE(testing::Message() << w << "x" << h << " seed " << seed << " subsample "
-                                  << params.wide.subsample);
+                                  << params.wide.subsample << " layout " << int(layout));
   const auto s = random_scene(w, h, seed);
   const auto ref = cvf_reference(s.color, s.depth, s.virt, params);
-  CvfMatte cvf(context(), params);
+  CvfMatte cvf(context(), params, /*trace=*/true, layout);
+  ASSERT_EQ(cvf.layout(), layout);
   DeviceImageRGB8 color(context(), s.color);
   DeviceDepthImage depth(context(), s.depth);
   DeviceImageF virt(context(), s.virt), alpha;
@@ -130,6 +179,17 @@ void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& param
   EXPECT_LE(far, 25 * flips) << "alpha differs on " << far << " pixels";
 }
 
+// Both device layouts (row-streaming strips for CPUs, tiles for GPUs) on PoCL.
+void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& params) {
+  expect_cvf_matches_in(CvfLayout::Strips, w, h, seed, params);
+  expect_cvf_matches_in(CvfLayout::Tiles, w, h, seed, params);
+}
+
+TEST(CvfDevice, AutoLayoutIsStripsOnCpuDevices) {
+  CvfMatte cvf(context());
+  EXPECT_EQ(cvf.layout(), context().info().type == "CPU" ? CvfLayout::Strips : CvfLayout::Tiles);
+}
+
 TEST(CvfDevice, MatchesReferenceExactFilter) {
   CvfParams p;
   p.wide.subsample = 1;
@@ -145,6 +205,22 @@ TEST(CvfDevice, MatchesReferenceFastFilter) {
   expect_cvf_matches(160, 121, 5, p);
   p.bins_per_channel = 8;
   expect_cvf_matches(75, 40, 6, p);
+}
+
+// Tall frames run in several strips (each warms up on the rows above it); erosion and band
+// radii from 0 to the maximum of the row-streaming kernels.
+TEST(CvfDevice, MatchesReferenceAcrossStripsAndRadii) {
+  CvfParams p;
+  expect_cvf_matches(70, 250, 8, p);
+  p.wide.subsample = 1;
+  expect_cvf_matches(45, 199, 9, p);
+  p.wide.subsample = 2;
+  p.categorise.erosion_px = 0;
+  p.band_px = 0;
+  expect_cvf_matches(81, 130, 10, p);
+  p.categorise.erosion_px = 16;
+  p.band_px = 16;
+  expect_cvf_matches(96, 140, 11, p);
 }
 
 TEST(CvfDevice, FallsBackToTheDepthTestWithFewSamples) {
