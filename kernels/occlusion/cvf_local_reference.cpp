@@ -167,24 +167,20 @@ LocalCost local_cost(float p_in, float p_behind, float overlap, int n_infront, i
   return {cost, std::clamp(overlap * ambiguity, 0.0F, 1.0F)};
 }
 
-CvfLocalTrace cvf_local_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
-                                  const ImageF& virtual_depth_mm, const CvfLocalParams& params) {
+LocalCosts local_costs_reference(const ImageRGB8& color, const CategoryImage& categories,
+                                 const ImageGray8& band, const DepthImage& real_depth_mm,
+                                 const ImageF& virtual_depth_mm, const CvfLocalParams& params) {
   const int w = color.width(), h = color.height();
-  if (real_depth_mm.width() != w || real_depth_mm.height() != h || virtual_depth_mm.width() != w ||
-      virtual_depth_mm.height() != h)
-    throw std::invalid_argument("cvf_local_reference: colour and depth sizes differ");
-  if (params.tile_px < 0) throw std::invalid_argument("cvf_local_reference: tile_px < 0");
+  if (params.tile_px < 0) throw std::invalid_argument("cvf_local: tile_px < 0");
   const CvfParams& p = params.cvf;
-  CvfLocalTrace t;
-  t.categories = categorise_reference(real_depth_mm, virtual_depth_mm, p.categorise);
-  t.band = process_band_reference(t.categories, p.band_px);
-  t.global = colour_histograms_reference(color, t.categories, t.band, p.bins_per_channel);
+  LocalCosts t;
+  t.global = colour_histograms_reference(color, categories, band, p.bins_per_channel);
   const auto need = static_cast<std::uint32_t>(std::max(1, p.min_samples));
   t.colour_models_valid = t.global.infront_total() >= need && t.global.behind_total() >= need;
   if (t.colour_models_valid) {
     if (params.tile_px > 0) {
-      t.tiles = tile_histograms_reference(color, t.categories, t.band, p.bins_per_channel,
-                                          params.tile_px);
+      t.tiles =
+          tile_histograms_reference(color, categories, band, p.bins_per_channel, params.tile_px);
       t.likelihoods = tile_likelihoods(t.tiles, t.global, p.min_samples);
     } else {
       t.likelihoods = global_likelihoods(t.global);
@@ -192,13 +188,13 @@ CvfLocalTrace cvf_local_reference(const ImageRGB8& color, const DepthImage& real
   }
   const bool use_prior = params.prior_radius > 0;
   ClassCounts counts;
-  if (use_prior) counts = window_class_counts(t.categories, params.prior_radius);
+  if (use_prior) counts = window_class_counts(categories, params.prior_radius);
 
   t.cost = ImageF(w, h);
   t.softness = ImageF(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const auto c = static_cast<Category>(t.categories.at(x, y));
+      const auto c = static_cast<Category>(categories.at(x, y));
       if (c != Category::Process || !t.colour_models_valid) {
         // Known categories, and the depth test without colour models: CVF's costs.
         t.cost.at(x, y) =
@@ -220,6 +216,27 @@ CvfLocalTrace cvf_local_reference(const ImageRGB8& color, const DepthImage& real
       t.cost.at(x, y) = lc.cost;
       t.softness.at(x, y) = params.soft_where_ambiguous ? lc.softness : 0.0F;
     }
+  return t;
+}
+
+CvfLocalTrace cvf_local_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+                                  const ImageF& virtual_depth_mm, const CvfLocalParams& params) {
+  const int w = color.width(), h = color.height();
+  if (real_depth_mm.width() != w || real_depth_mm.height() != h || virtual_depth_mm.width() != w ||
+      virtual_depth_mm.height() != h)
+    throw std::invalid_argument("cvf_local_reference: colour and depth sizes differ");
+  const CvfParams& p = params.cvf;
+  CvfLocalTrace t;
+  t.categories = categorise_reference(real_depth_mm, virtual_depth_mm, p.categorise);
+  t.band = process_band_reference(t.categories, p.band_px);
+  auto lc =
+      local_costs_reference(color, t.categories, t.band, real_depth_mm, virtual_depth_mm, params);
+  t.global = std::move(lc.global);
+  t.colour_models_valid = lc.colour_models_valid;
+  t.tiles = std::move(lc.tiles);
+  t.likelihoods = std::move(lc.likelihoods);
+  t.cost = std::move(lc.cost);
+  t.softness = std::move(lc.softness);
 
   const auto guide = guide_from_rgb8(color);
   t.wide = guided_filter_reference(guide, t.cost, p.wide);

@@ -105,6 +105,20 @@ struct LocalCost {
 LocalCost local_cost(float p_in, float p_behind, float overlap, int n_infront, int n_behind,
                      bool use_prior);
 
+// Steps 1-3 up to the wide filter, from the categories and band (the part the device stage
+// cvf_local_histogram.cl computes): cost and softness of every pixel.
+struct LocalCosts {
+  ColourModels global;
+  bool colour_models_valid = false;  // the global pair had >= min_samples per class
+  TileColourModels tiles;            // empty with tile_px = 0 or without colour models
+  TileLikelihoods likelihoods;       // empty without colour models
+  ImageF cost;
+  ImageF softness;  // s of step 3 (0 off process pixels and without colour models)
+};
+LocalCosts local_costs_reference(const ImageRGB8& color, const CategoryImage& categories,
+                                 const ImageGray8& band, const DepthImage& real_depth_mm,
+                                 const ImageF& virtual_depth_mm, const CvfLocalParams& params);
+
 struct CvfLocalTrace {
   CategoryImage categories;
   ImageGray8 band;

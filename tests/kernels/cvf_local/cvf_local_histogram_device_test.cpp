@@ -1,0 +1,128 @@
+// The device stage of CVF with local colour models against its CPU reference
+// (local_costs_reference): costs and softness on random scenes, the test sizes of every kernel
+// (odd widths, partial tiles and work-groups), several tile sizes, bins and prior radii, and
+// the depth-test fallback without colour models.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "kernels/occlusion/categorise_reference.hpp"
+#include "kernels/occlusion/cvf_local_histogram.hpp"
+#include "support/cl_context.hpp"
+
+namespace probeless::occlusion {
+namespace {
+
+struct Frame {
+  ImageRGB8 color;
+  DepthImage depth;
+  ImageF virt;
+};
+
+// Depth in 5x5 blocks (near, far, unknown, tie; a margin off the object), colours from a small
+// palette with noise whose choice depends on the block's class, so tiles differ.
+Frame random_frame(int w, int h, std::mt19937& rng, bool only_infront = false) {
+  Frame f{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h)};
+  std::uniform_int_distribution<int> cls(0, 9), noise(-12, 12), pal(0, 3);
+  const std::uint8_t palette[4][3] = {{200, 30, 30}, {30, 200, 30}, {30, 30, 200}, {200, 200, 60}};
+  std::vector<int> block(static_cast<std::size_t>((w / 5 + 1) * (h / 5 + 1)));
+  for (auto& b : block) b = cls(rng);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int b = block[static_cast<std::size_t>((y / 5) * (w / 5 + 1) + x / 5)];
+      f.virt.at(x, y) = (x + y) % 23 == 0 ? 0.0F : 1000.0F;  // a few off-object pixels
+      const std::uint16_t d = only_infront ? (b < 3 ? 0 : 500)
+                              : b < 4      ? 500
+                              : b < 8      ? 2000
+                              : b < 9      ? 0
+                                           : 1005;
+      f.depth.at(x, y) = d;
+      const int p = (b + (x < w / 2 ? 0 : 1) + pal(rng) / 3) % 4;
+      for (int k = 0; k < 3; ++k)
+        f.color.at(x, y, k) =
+            static_cast<std::uint8_t>(std::clamp(palette[p][k] + noise(rng), 0, 255));
+    }
+  return f;
+}
+
+// Returns whether the scene had colour models (so the tests can insist on both paths).
+bool expect_matches_reference(const Frame& f, const CvfLocalParams& params, const char* what) {
+  auto& ctx = testing::cl_context();
+  const auto cats = categorise_reference(f.depth, f.virt, params.cvf.categorise);
+  const auto band = process_band_reference(cats, params.cvf.band_px);
+  const auto ref = local_costs_reference(f.color, cats, band, f.depth, f.virt, params);
+
+  DeviceImageRGB8 color(ctx, f.color);
+  DeviceDepthImage depth(ctx, f.depth);
+  DeviceImageF virt(ctx, f.virt);
+  DeviceImageGray8 dcats(ctx, cats), dband(ctx, band);
+  CvfLocalHistogram stage(ctx, params);
+  stage.run({&color, &depth, &virt}, dcats, dband);
+  const auto cost = stage.cost().download(ctx.queue());
+  const auto soft = stage.softness().download(ctx.queue());
+  EXPECT_EQ(stage.colour_models_valid(), ref.colour_models_valid) << what;
+  int bad = 0;
+  for (int y = 0; y < f.color.height(); ++y)
+    for (int x = 0; x < f.color.width(); ++x) {
+      if (std::fabs(cost.at(x, y) - ref.cost.at(x, y)) > 1e-4F ||
+          std::fabs(soft.at(x, y) - ref.softness.at(x, y)) > 1e-4F) {
+        if (++bad <= 5) {
+          ADD_FAILURE() << what << " at " << x << "," << y << ": cost " << cost.at(x, y) << " vs "
+                        << ref.cost.at(x, y) << ", softness " << soft.at(x, y) << " vs "
+                        << ref.softness.at(x, y);
+        }
+      }
+    }
+  EXPECT_EQ(bad, 0) << what;
+  return ref.colour_models_valid;
+}
+
+TEST(CvfLocalHistogramDevice, MatchesReferenceOnRandomScenes) {
+  std::mt19937 rng(11);
+  int run = 0, with_models = 0;
+  for (const auto& [w, h] : testing::kernel_test_sizes()) {
+    CvfLocalParams p;
+    p.cvf.min_samples = 5;  // the tiny sizes too have colour models sometimes
+    // Cycle through the variants rather than multiplying the VGA cases.
+    p.tile_px = std::array{32, 7, 16}[run % 3];
+    p.prior_radius = std::array{3, 0, 2}[run % 3];
+    p.cvf.bins_per_channel = run % 2 ? 8 : 4;
+    p.soft_where_ambiguous = run % 4 != 1;
+    const auto f = random_frame(w, h, rng);
+    with_models += expect_matches_reference(
+        f, p,
+        (std::to_string(w) + "x" + std::to_string(h) + " tile " + std::to_string(p.tile_px))
+            .c_str());
+    ++run;
+  }
+  std::uniform_int_distribution<int> size(1, 150);
+  for (int k = 0; k < 6; ++k) {
+    CvfLocalParams p;
+    p.tile_px = 1 + k * 9;
+    p.cvf.categorise.erosion_px = k % 3;
+    const int w = size(rng) | 1, h = size(rng);
+    with_models +=
+        expect_matches_reference(random_frame(w, h, rng), p,
+                                 ("random " + std::to_string(w) + "x" + std::to_string(h)).c_str());
+  }
+  EXPECT_GE(with_models, 8) << "most scenes must exercise the colour models, not the fallback";
+}
+
+TEST(CvfLocalHistogramDevice, FallsBackToTheDepthTestWithoutColourModels) {
+  std::mt19937 rng(5);
+  const auto f = random_frame(97, 61, rng, /*only_infront=*/true);
+  EXPECT_FALSE(expect_matches_reference(f, CvfLocalParams{}, "no behind pixels"));
+}
+
+TEST(CvfLocalHistogramDevice, RejectsWhatTheDeviceCannotHold) {
+  auto& ctx = testing::cl_context();
+  CvfLocalParams p;
+  p.tile_px = 0;
+  EXPECT_THROW(CvfLocalHistogram(ctx, p), std::invalid_argument);
+  p.tile_px = 32;
+  p.cvf.bins_per_channel = 16;
+  EXPECT_THROW(CvfLocalHistogram(ctx, p), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace probeless::occlusion
