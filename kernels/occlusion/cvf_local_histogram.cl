@@ -46,9 +46,10 @@ __kernel void cvf_local_tile_histogram(__global const uchar* rgb, __global const
 }
 
 // One work-item per tile: the tile's likelihoods shrunk towards the Laplace-smoothed global
-// ones with min_samples pseudo-counts (tile_likelihoods()), and its Bhattacharyya coefficient.
+// ones with min_samples pseudo-counts (tile_likelihoods()). Work-item 0 also writes
 // stats[0] = 1 when the global pair has >= min_samples per class (else the costs fall back to
-// the depth test and the likelihoods are not written).
+// the depth test and nothing else is written) and overlap[0] = the global pair's
+// Bhattacharyya coefficient (global_likelihoods().overlap[0], the softness's factor).
 __kernel void cvf_local_likelihoods(__global const uint* tile_hist, __global const uint* hist,
                                     int tiles, int min_samples, __global float* lik,
                                     __global float* overlap, __global int* stats) {
@@ -73,13 +74,11 @@ __kernel void cvf_local_likelihoods(__global const uint* tile_hist, __global con
   for (int b = 0; b < NBINS; ++b) {
     const float gi = ((float)hist[b] + 1.0f) / gi_den;
     const float gb = ((float)hist[NBINS + b] + 1.0f) / gb_den;
-    const float pi = ((float)th[b] + m * gi) / ti_den;
-    const float pb = ((float)th[NBINS + b] + m * gb) / tb_den;
-    out[b] = pi;
-    out[NBINS + b] = pb;
-    bc += sqrt(pi * pb);
+    out[b] = ((float)th[b] + m * gi) / ti_den;
+    out[NBINS + b] = ((float)th[NBINS + b] + m * gb) / tb_den;
+    bc += sqrt(gi * gb);
   }
-  overlap[t] = min(bc, 1.0f);
+  if (t == 0) overlap[0] = min(bc, 1.0f);
 }
 
 // Tile centres at (t + 0.5) TILE; beyond the outermost centres the nearest one holds.
@@ -92,7 +91,7 @@ inline void blend_axis(int p, int tiles, int* t0, int* t1, float* f) {
 
 // One work-item per pixel: CVF's cost for known pixels and without colour models; on process
 // pixels the local posterior from the 4 nearest tiles' likelihoods and the window prior, and
-// the softness s = overlap x prior ambiguity (local_cost()).
+// the softness s = global overlap x prior ambiguity (local_cost()).
 __kernel void cvf_local_cost(__global const uchar* rgb, __global const ushort* real_mm,
                              __global const float* virtual_mm, __global const uchar* categories,
                              int w, int h, int tiles_x, int tiles_y, __global const float* lik,
@@ -121,12 +120,11 @@ __kernel void cvf_local_cost(__global const uchar* rgb, __global const ushort* r
     const int tile[4] = {y0 * tiles_x + x0, y0 * tiles_x + x1, y1 * tiles_x + x0,
                          y1 * tiles_x + x1};
     const float wt[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
-    float p_in = 0.0f, p_be = 0.0f, bc = 0.0f;
+    float p_in = 0.0f, p_be = 0.0f;
     for (int k = 0; k < 4; ++k) {
       __global const float* l = lik + (size_t)tile[k] * 2 * NBINS;
       p_in += wt[k] * l[bin];
       p_be += wt[k] * l[NBINS + bin];
-      bc += wt[k] * overlap[tile[k]];
     }
     float ambiguity = 1.0f;
 #if PRIOR_RADIUS > 0
@@ -144,7 +142,7 @@ __kernel void cvf_local_cost(__global const uchar* rgb, __global const ushort* r
 #endif
     out_cost = p_in + p_be > 0.0f ? p_in / (p_in + p_be) : 0.5f;
 #if SOFT
-    out_soft = clamp(bc * ambiguity, 0.0f, 1.0f);
+    out_soft = clamp(overlap[0] * ambiguity, 0.0f, 1.0f);
 #endif
   }
   cost[i] = out_cost;

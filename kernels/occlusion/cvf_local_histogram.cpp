@@ -34,6 +34,7 @@ CvfLocalHistogram::CvfLocalHistogram(ComputeContext& ctx, const CvfLocalParams& 
   const int b = params.cvf.bins_per_channel;
   hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, sizeof(cl_uint) * 2 * b * b * b);
   stats_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, sizeof(cl_int));
+  overlap_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, sizeof(cl_float));
 }
 
 void CvfLocalHistogram::run(const OcclusionInputs& in, const DeviceImageGray8& categories,
@@ -52,7 +53,6 @@ void CvfLocalHistogram::run(const OcclusionInputs& in, const DeviceImageGray8& c
     const auto n = static_cast<std::size_t>(tiles) * 2 * nbins;
     tile_hist_ = ::cl::Buffer(ctx_.context(), CL_MEM_READ_WRITE, sizeof(cl_uint) * n);
     lik_ = ::cl::Buffer(ctx_.context(), CL_MEM_READ_WRITE, sizeof(cl_float) * n);
-    overlap_ = ::cl::Buffer(ctx_.context(), CL_MEM_READ_WRITE, sizeof(cl_float) * tiles);
     tiles_capacity_ = tiles;
   }
   auto& q = ctx_.queue();

@@ -189,6 +189,7 @@ LocalCosts local_costs_reference(const ImageRGB8& color, const CategoryImage& ca
   const bool use_prior = params.prior_radius > 0;
   ClassCounts counts;
   if (use_prior) counts = window_class_counts(categories, params.prior_radius);
+  const float global_bc = t.colour_models_valid ? global_likelihoods(t.global).overlap[0] : 0.0F;
 
   t.cost = ImageF(w, h);
   t.softness = ImageF(w, h);
@@ -204,15 +205,15 @@ LocalCosts local_costs_reference(const ImageRGB8& color, const CategoryImage& ca
       const int bin =
           colour_bin(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2), p.bins_per_channel);
       const TileBlend tb = tile_blend(t.likelihoods, x, y);
-      float p_in = 0, p_be = 0, bc = 0;
+      float p_in = 0, p_be = 0;
       for (int k = 0; k < 4; ++k) {
         const auto idx = static_cast<std::size_t>(tb.tile[k]) * t.likelihoods.bins + bin;
         p_in += tb.weight[k] * t.likelihoods.infront[idx];
         p_be += tb.weight[k] * t.likelihoods.behind[idx];
-        bc += tb.weight[k] * t.likelihoods.overlap[tb.tile[k]];
       }
-      const LocalCost lc = local_cost(p_in, p_be, bc, use_prior ? counts.infront.at(x, y) : 0,
-                                      use_prior ? counts.behind.at(x, y) : 0, use_prior);
+      const LocalCost lc =
+          local_cost(p_in, p_be, global_bc, use_prior ? counts.infront.at(x, y) : 0,
+                     use_prior ? counts.behind.at(x, y) : 0, use_prior);
       t.cost.at(x, y) = lc.cost;
       t.softness.at(x, y) = params.soft_where_ambiguous ? lc.softness : 0.0F;
     }

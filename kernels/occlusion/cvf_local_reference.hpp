@@ -15,8 +15,11 @@
 //      (Laplace-smoothed counts), so cost = posterior P(infront | colour, neighbourhood);
 //   3. soft where undecidable: the wide filter's output is thresholded as in CVF with weight
 //      1 - s and kept as is with weight s, where s = BC x 4 pi_in pi_behind: the overlap of the
-//      two colour models (Bhattacharyya coefficient) times the ambiguity of the prior (1 at
-//      50/50, 0 where only one class is near). Neither cue decides -> soft, not a coin toss.
+//      frame's two colour models (Bhattacharyya coefficient) times the ambiguity of the prior
+//      (1 at 50/50, 0 where only one class is near). Neither cue decides -> soft, not a coin
+//      toss. BC comes from the global pair, not the tiles: estimated from a few hundred
+//      samples, a tile's BC is biased low (sparse histograms overlap less), and the tiles' BC
+//      measured worse on 11 of 12 Middlebury cases (docs/occlusion.md).
 // Without a valid global pair (< min_samples of a class in the whole band) the depth test
 // decides, as in CVF (cvf_cost()).
 #include <cstdint>
@@ -74,7 +77,9 @@ struct TileLikelihoods {
   int tiles_x = 0, tiles_y = 0, tile_px = 32, bins = 64;
   std::vector<float> infront;  // [tile * bins + bin], P(bin | infront)
   std::vector<float> behind;
-  std::vector<float> overlap;  // [tile], sum over bins of sqrt(P_in P_behind), in [0, 1]
+  // [tile], sum over bins of sqrt(P_in P_behind) in [0, 1]; a diagnostic for tiles (step 3
+  // uses the global pair's, global_likelihoods().overlap[0]).
+  std::vector<float> overlap;
 };
 
 TileLikelihoods tile_likelihoods(const TileColourModels& tiles, const ColourModels& global,
@@ -96,8 +101,9 @@ struct ClassCounts {
 };
 ClassCounts window_class_counts(const CategoryImage& categories, int radius);
 
-// Cost of a process pixel and its soft weight s (steps 1-3) from the blended likelihoods and
-// overlap and the window counts. Exposed for the tests and as the device kernel's definition.
+// Cost of a process pixel and its soft weight s (steps 1-3) from the blended likelihoods, the
+// global pair's overlap and the window counts. Exposed for the tests and as the device kernel's
+// definition.
 struct LocalCost {
   float cost;
   float softness;
