@@ -4,6 +4,9 @@
 // the depth-test fallback without colour models.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <random>
 
 #include "kernels/occlusion/categorise_reference.hpp"
@@ -122,6 +125,44 @@ TEST(CvfLocalHistogramDevice, RejectsWhatTheDeviceCannotHold) {
   p.tile_px = 32;
   p.cvf.bins_per_channel = 16;
   EXPECT_THROW(CvfLocalHistogram(ctx, p), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace probeless::occlusion
+
+namespace probeless::occlusion {
+namespace {
+
+// Not a test (no threshold; it cannot fail): the stage's device time at 640x480, for
+// docs/occlusion.md. Run with --gtest_also_run_disabled_tests --gtest_filter='*Timing*'.
+TEST(CvfLocalHistogramDevice, DISABLED_TimingVga) {
+  auto& ctx = testing::cl_context();
+  std::mt19937 rng(1);
+  const auto f = random_frame(640, 480, rng);
+  for (const int prior : {3, 0}) {
+    CvfLocalParams p;
+    p.prior_radius = prior;
+    const auto cats = categorise_reference(f.depth, f.virt, p.cvf.categorise);
+    const auto band = process_band_reference(cats, p.cvf.band_px);
+    DeviceImageRGB8 color(ctx, f.color);
+    DeviceDepthImage depth(ctx, f.depth);
+    DeviceImageF virt(ctx, f.virt);
+    DeviceImageGray8 dcats(ctx, cats), dband(ctx, band);
+    CvfLocalHistogram stage(ctx, p);
+    std::vector<double> ms;
+    for (int k = 0; k < 60; ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      stage.run({&color, &depth, &virt}, dcats, dband);
+      ctx.queue().finish();
+      ms.push_back(
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::sort(ms.begin() + 10, ms.end());
+    std::printf(
+        "cvf_local_histogram 640x480, prior radius %d: p50 %.2f ms, min %.2f ms (50 frames "
+        "after 10)\n",
+        prior, ms[10 + 25], ms[10]);
+  }
 }
 
 }  // namespace
