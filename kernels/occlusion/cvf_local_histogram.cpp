@@ -14,7 +14,8 @@ const CvfLocalParams& checked(const CvfLocalParams& p) {
   if (p.tile_px < 1) throw std::invalid_argument("cvf_local_histogram: tile_px must be >= 1");
   if (p.cvf.bins_per_channel < 1 || p.cvf.bins_per_channel > 8)
     throw std::invalid_argument("cvf_local_histogram: bins per channel must be 1..8");
-  if (p.prior_radius < 0) throw std::invalid_argument("cvf_local_histogram: prior_radius < 0");
+  if (p.prior_radius < 0 || p.prior_radius > 127)
+    throw std::invalid_argument("cvf_local_histogram: prior_radius must be 0..127");
   return p;
 }
 
@@ -31,6 +32,7 @@ CvfLocalHistogram::CvfLocalHistogram(ComputeContext& ctx, const CvfLocalParams& 
   histogram_ = k("cvf_local_tile_histogram");
   likelihoods_ = k("cvf_local_likelihoods");
   cost_kernel_ = k("cvf_local_cost");
+  if (params.prior_radius > 0) count_rows_ = k("cvf_local_count_rows");
   const int b = params.cvf.bins_per_channel;
   hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, sizeof(cl_uint) * 2 * b * b * b);
   stats_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, sizeof(cl_int));
@@ -82,7 +84,15 @@ void CvfLocalHistogram::run(const OcclusionInputs& in, const DeviceImageGray8& c
   likelihoods_.setArg(6, stats_);
   q.enqueueNDRangeKernel(likelihoods_, ::cl::NullRange, ::cl::NDRange(tiles), ::cl::NullRange);
 
-  // 3. One work-item per pixel.
+  // 3. The prior's row counts, then one work-item per pixel.
+  row_counts_.resize(ctx_.context(), w, h);
+  if (params_.prior_radius > 0) {
+    count_rows_.setArg(0, categories.buffer());
+    count_rows_.setArg(1, w);
+    count_rows_.setArg(2, h);
+    count_rows_.setArg(3, row_counts_.buffer());
+    ctx_.run_2d(count_rows_, w, h);
+  }
   cost_kernel_.setArg(0, in.color->buffer());
   cost_kernel_.setArg(1, in.real_depth_mm->buffer());
   cost_kernel_.setArg(2, in.virtual_depth_mm->buffer());
@@ -94,8 +104,9 @@ void CvfLocalHistogram::run(const OcclusionInputs& in, const DeviceImageGray8& c
   cost_kernel_.setArg(8, lik_);
   cost_kernel_.setArg(9, overlap_);
   cost_kernel_.setArg(10, stats_);
-  cost_kernel_.setArg(11, cost_.buffer());
-  cost_kernel_.setArg(12, softness_.buffer());
+  cost_kernel_.setArg(11, row_counts_.buffer());
+  cost_kernel_.setArg(12, cost_.buffer());
+  cost_kernel_.setArg(13, softness_.buffer());
   ctx_.run_2d(cost_kernel_, w, h);
 }
 

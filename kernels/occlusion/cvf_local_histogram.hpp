@@ -31,8 +31,9 @@ class CvfLocalHistogram {
  private:
   ComputeContext& ctx_;
   CvfLocalParams params_;
-  ::cl::Kernel histogram_, likelihoods_, cost_kernel_;
+  ::cl::Kernel histogram_, likelihoods_, count_rows_, cost_kernel_;
   ::cl::Buffer hist_, tile_hist_, lik_, overlap_, stats_;
+  DeviceImage<std::uint8_t, 2> row_counts_;  // the prior's per-row window counts (in, behind)
   int tiles_capacity_ = 0;
   DeviceImageF cost_, softness_;
 };
