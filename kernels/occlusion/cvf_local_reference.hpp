@@ -10,6 +10,7 @@
 //      towards the frame's global histogram with `min_samples` pseudo-counts,
 //      P_t(b) = (n_t(b) + m P_global(b)) / (N_t + m), m = min_samples (the thesis's "40 samples
 //      make a model": an empty tile IS the global model, a tile with m samples is half-half);
+//      P_global has one pseudo-count per bin (Laplace), so no colour is impossible for a class;
 //      a pixel reads the bilinear blend of its 4 nearest tile centres (no seams);
 //   2. a local prior: the fractions of infront and behind pixels in the (2 r_p + 1)^2 window
 //      (Laplace-smoothed counts), so cost = posterior P(infront | colour, neighbourhood);
@@ -19,7 +20,7 @@
 //      (1 at 50/50, 0 where only one class is near). Neither cue decides -> soft, not a coin
 //      toss. BC comes from the global pair, not the tiles: estimated from a few hundred
 //      samples, a tile's BC is biased low (sparse histograms overlap less), and the tiles' BC
-//      measured worse on 11 of 12 Middlebury cases (docs/occlusion.md).
+//      measured worse on 10 of 12 Middlebury cases (docs/occlusion.md).
 // Without a valid global pair (< min_samples of a class in the whole band) the depth test
 // decides, as in CVF (cvf_cost()).
 #include <cstdint>
