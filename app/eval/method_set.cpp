@@ -13,6 +13,30 @@
 namespace probeless::eval {
 using namespace probeless::occlusion;
 
+namespace {
+
+// The proposed CVF change as an evaluation-only method: downloads the inputs, runs the CPU
+// reference and uploads alpha (milliseconds to seconds per frame; never for the service).
+class CvfLocalHostMethod final : public OcclusionMethod {
+ public:
+  CvfLocalHostMethod(ComputeContext& ctx, const CvfLocalParams& params)
+      : ctx_(ctx), params_(params) {}
+  std::string name() const override { return "cvf_local"; }
+  void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) override {
+    check_inputs(in, name());
+    auto& q = ctx_.queue();
+    const auto trace = cvf_local_reference(in.color->download(q), in.real_depth_mm->download(q),
+                                           in.virtual_depth_mm->download(q), params_);
+    alpha.upload(q, trace.alpha);
+  }
+
+ private:
+  ComputeContext& ctx_;
+  CvfLocalParams params_;
+};
+
+}  // namespace
+
 const std::vector<std::string>& all_method_names() {
   static const std::vector<std::string> names = {
       "cvf", "direct1", "direct2", "guided", "bilateral", "crabb", "arcore_soft", "meta_soft"};
@@ -36,11 +60,17 @@ std::unique_ptr<OcclusionMethod> make_method(ComputeContext& ctx, const std::str
     p.categorise = cat;
     return std::make_unique<BilateralMatte>(ctx, p);
   }
+  if (name == "cvf_local") {
+    CvfLocalParams p = settings.cvf_local;
+    p.cvf.categorise = cat;
+    return std::make_unique<CvfLocalHostMethod>(ctx, p);
+  }
   if (name == "crabb") return std::make_unique<CrabbMatte>(ctx);
   if (name == "arcore_soft") return std::make_unique<SoftRampMatte>(ctx);
   if (name == "meta_soft") return std::make_unique<MetaSoftMatte>(ctx);
   std::string known;
   for (const auto& n : all_method_names()) known += " " + n;
+  known += " cvf_local";
   throw std::invalid_argument("unknown occlusion method '" + name + "' (known:" + known + ")");
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/occlusion/cvf_local_reference.hpp"
 #include "kernels/occlusion/cvf_params.hpp"
 #include "kernels/occlusion/occlusion_method.hpp"
 
@@ -14,6 +15,10 @@ const std::vector<std::string>& all_method_names();
 
 struct MethodSettings {
   occlusion::CvfParams cvf;  // its categorise params are shared by guided and bilateral
+  // "cvf_local": the proposed CVF change, evaluation only (not in all_method_names()): its CPU
+  // reference run on the host (docs/occlusion.md "Local colour models"). Takes the categorise
+  // params of `cvf` so both protocols treat it like the other methods.
+  occlusion::CvfLocalParams cvf_local;
 };
 
 // Throws std::invalid_argument for an unknown name.
