@@ -2,8 +2,8 @@
 // the SH projection (docs/light-capture.md): 25 coefficients need nothing finer than 32 x 32
 // faces, and a 128 px keyframe would cost 16 times the host's projection work. Observed and
 // filled texels count alike (push-pull has run). Output alpha: 1.
-__kernel void envmap_downsample(__global const float4* texels, int n, __global float4* out,
-                                int m, int factor) {
+__kernel void envmap_downsample(__global const float4* texels, int n, __global float4* out, int m,
+                                int factor) {
   const int x = get_global_id(0), row = get_global_id(1);
   if (x >= m || row >= 6 * m) return;
   const int face = row / m, y = row - face * m;

@@ -10,12 +10,18 @@
 float3 cube_direction(int face, float u, float v) {
   const float sc = 2.0f * u - 1.0f, tc = 2.0f * v - 1.0f;
   switch (face) {
-    case 0: return (float3)(1.0f, -tc, -sc);
-    case 1: return (float3)(-1.0f, -tc, sc);
-    case 2: return (float3)(sc, 1.0f, tc);
-    case 3: return (float3)(sc, -1.0f, -tc);
-    case 4: return (float3)(sc, -tc, 1.0f);
-    default: return (float3)(-sc, -tc, -1.0f);
+    case 0:
+      return (float3)(1.0f, -tc, -sc);
+    case 1:
+      return (float3)(-1.0f, -tc, sc);
+    case 2:
+      return (float3)(sc, 1.0f, tc);
+    case 3:
+      return (float3)(sc, -1.0f, -tc);
+    case 4:
+      return (float3)(sc, -tc, 1.0f);
+    default:
+      return (float3)(-sc, -tc, -1.0f);
   }
 }
 
@@ -26,9 +32,15 @@ float polar_angle(float r, float z) {
   const float az = fabs(z);
   const float hi = fmax(r, az), lo = fmin(r, az);
   const float x = hi > 0.0f ? lo / hi : 0.0f, x2 = x * x;
-  float a = x * (1.0f + x2 * (-0.3333314528f + x2 * (0.1999355085f + x2 * (-0.1420889944f +
-            x2 * (0.1065626393f + x2 * (-0.0752896400f + x2 * (0.0429096138f +
-            x2 * (-0.0161657367f + x2 * 0.0028662257f))))))));
+  float a =
+      x *
+      (1.0f + x2 * (-0.3333314528f +
+                    x2 * (0.1999355085f +
+                          x2 * (-0.1420889944f +
+                                x2 * (0.1065626393f +
+                                      x2 * (-0.0752896400f +
+                                            x2 * (0.0429096138f +
+                                                  x2 * (-0.0161657367f + x2 * 0.0028662257f))))))));
   a = r > az ? M_PI_2_F - a : a;
   return z < 0.0f ? M_PI_F - a : a;
 }
@@ -51,8 +63,7 @@ bool project_kb(float3 p, float4 f, float4 k, float max_theta, float2* px) {
 
 // Bilinear sample at pixel centres on integers; false unless all four neighbours are inside
 // the image and usable (quality > 0): a saturated or black pixel must not leak into a texel.
-bool sample_bilinear(__global const float4* image, int width, int height, float2 px,
-                     float4* out) {
+bool sample_bilinear(__global const float4* image, int width, int height, float2 px, float4* out) {
   const float fx0 = floor(px.x), fy0 = floor(px.y);
   const int x0 = (int)fx0, y0 = (int)fy0;
   if (!(fx0 >= 0.0f && fy0 >= 0.0f && x0 + 1 < width && y0 + 1 < height)) return false;
@@ -70,10 +81,10 @@ float luminance(float4 v) {
 }
 
 __kernel void envmap_update(__global float4* texels, __global float4* pending,
-                            __global const float4* image, int width, int height, int n,
-                            float4 r0, float4 r1, float4 r2, float4 focal_centre, float4 k,
-                            float max_theta, int rule, int publish, float measurement_var,
-                            float process_var, float change_sigma2) {
+                            __global const float4* image, int width, int height, int n, float4 r0,
+                            float4 r1, float4 r2, float4 focal_centre, float4 k, float max_theta,
+                            int rule, int publish, float measurement_var, float process_var,
+                            float change_sigma2) {
   const int x = get_global_id(0), row = get_global_id(1);
   if (x >= n || row >= 6 * n) return;
   const int face = row / n, y = row - face * n;

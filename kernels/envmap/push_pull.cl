@@ -22,8 +22,7 @@ int level_size(int n, int k) {
 // neighbours; pass 0 works on every face and sets 0 or 2, later passes on the faces
 // seed_borders picked (face_target) and set 1.
 __kernel void pull_push_faces(__global float4* texels, int n, __global float4* pyramid,
-                              __global int* face_state, __global const int* face_target,
-                              int pass) {
+                              __global int* face_state, __global const int* face_target, int pass) {
   const int face = get_group_id(0), lid = get_local_id(0), size = get_local_size(0);
   if (pass > 0 && !face_target[face]) return;  // uniform across the work-group
   int levels = 0;
@@ -76,8 +75,10 @@ __kernel void pull_push_faces(__global float4* texels, int n, __global float4* p
       const float4 t = fine[i];
       const float4 parent = coarse[(y / 2) * cs + x / 2];
       if (k == 0) {
-        if (t.w == 0.0f) fine[i] = (float4)(parent.xyz, 0.0f);
-        else if (t.w < 0.0f) fine[i] = (float4)(t.xyz, 0.0f);
+        if (t.w == 0.0f)
+          fine[i] = (float4)(parent.xyz, 0.0f);
+        else if (t.w < 0.0f)
+          fine[i] = (float4)(t.xyz, 0.0f);
       } else if (t.w < 1.0f) {
         fine[i] = (float4)(t.w * t.xyz + (1.0f - t.w) * parent.xyz, 1.0f);
       }
@@ -91,12 +92,18 @@ __kernel void pull_push_faces(__global float4* texels, int n, __global float4* p
 float3 cube_direction(int face, float u, float v) {
   const float sc = 2.0f * u - 1.0f, tc = 2.0f * v - 1.0f;
   switch (face) {
-    case 0: return (float3)(1.0f, -tc, -sc);
-    case 1: return (float3)(-1.0f, -tc, sc);
-    case 2: return (float3)(sc, 1.0f, tc);
-    case 3: return (float3)(sc, -1.0f, -tc);
-    case 4: return (float3)(sc, -tc, 1.0f);
-    default: return (float3)(-sc, -tc, -1.0f);
+    case 0:
+      return (float3)(1.0f, -tc, -sc);
+    case 1:
+      return (float3)(-1.0f, -tc, sc);
+    case 2:
+      return (float3)(sc, 1.0f, tc);
+    case 3:
+      return (float3)(sc, -1.0f, -tc);
+    case 4:
+      return (float3)(sc, -tc, 1.0f);
+    default:
+      return (float3)(-sc, -tc, -1.0f);
   }
 }
 
@@ -107,16 +114,37 @@ int cube_texel(float3 d, int n, int* tx, int* ty) {
   float sc, tc, ma;
   if (ax >= ay && ax >= az) {
     ma = ax;
-    if (d.x > 0.0f) { face = 0; sc = -d.z; tc = -d.y; }
-    else { face = 1; sc = d.z; tc = -d.y; }
+    if (d.x > 0.0f) {
+      face = 0;
+      sc = -d.z;
+      tc = -d.y;
+    } else {
+      face = 1;
+      sc = d.z;
+      tc = -d.y;
+    }
   } else if (ay >= az) {
     ma = ay;
-    if (d.y > 0.0f) { face = 2; sc = d.x; tc = d.z; }
-    else { face = 3; sc = d.x; tc = -d.z; }
+    if (d.y > 0.0f) {
+      face = 2;
+      sc = d.x;
+      tc = d.z;
+    } else {
+      face = 3;
+      sc = d.x;
+      tc = -d.z;
+    }
   } else {
     ma = az;
-    if (d.z > 0.0f) { face = 4; sc = d.x; tc = -d.y; }
-    else { face = 5; sc = -d.x; tc = -d.y; }
+    if (d.z > 0.0f) {
+      face = 4;
+      sc = d.x;
+      tc = -d.y;
+    } else {
+      face = 5;
+      sc = -d.x;
+      tc = -d.y;
+    }
   }
   const float u = 0.5f * (sc / ma + 1.0f), v = 0.5f * (tc / ma + 1.0f);
   *tx = clamp((int)(u * (float)n), 0, n - 1);

@@ -1,10 +1,10 @@
 // `probeless record` end to end: the binary records a source, the replay sources read it back.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sys/wait.h>
 
 #include "app/cli/progress.hpp"
 #include "drivers/replay/recording.hpp"
@@ -39,10 +39,10 @@ RunResult run_probeless(const std::string& args) {
   return result;
 }
 
-#define REQUIRE_BINARY()                                                            \
-  do {                                                                              \
-    const char* b = std::getenv("PROBELESS_BINARY");                                \
-    if (!b || !*b || !fs::exists(b)) GTEST_SKIP() << "PROBELESS_BINARY not set";    \
+#define REQUIRE_BINARY()                                                         \
+  do {                                                                           \
+    const char* b = std::getenv("PROBELESS_BINARY");                             \
+    if (!b || !*b || !fs::exists(b)) GTEST_SKIP() << "PROBELESS_BINARY not set"; \
   } while (0)
 
 template <typename FrameT, typename SourceT>
@@ -65,8 +65,8 @@ TEST(RecordCommand, CopiesARecordingExactly) {
   const auto frames = testing::make_test_frames(5);
   testing::write_recording(base / "original", frames);
   const std::string spec = "replay:" + (base / "original").string() + "?realtime=0";
-  const RunResult r = run_probeless("record --source '" + spec + "' --frames 4 '" +
-                                    (base / "copy").string() + "'");
+  const RunResult r =
+      run_probeless("record --source '" + spec + "' --frames 4 '" + (base / "copy").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("4 RGB-D frames"), std::string::npos) << r.output;
   // No progress bar when stderr is not a terminal.
@@ -79,7 +79,8 @@ TEST(RecordCommand, CopiesARecordingExactly) {
   // Fisheye frames up to the last RGB-D frame's time (5.060000123 s): 5.003 ... 5.048.
   const auto fisheye = read_all<FisheyeFrame>(*copy.fisheye);
   ASSERT_EQ(fisheye.size(), 4u);
-  for (std::size_t i = 0; i < fisheye.size(); ++i) testing::expect_same(fisheye[i], frames.fisheye[i]);
+  for (std::size_t i = 0; i < fisheye.size(); ++i)
+    testing::expect_same(fisheye[i], frames.fisheye[i]);
   EXPECT_EQ(Recording::open(base / "copy")->manifest().source, spec);
 }
 
@@ -92,7 +93,8 @@ TEST(RecordCommand, RefusesNonEmptyDirectoryUnlessForced) {
   RunResult r = run_probeless("record " + source + "'" + (base / "existing").string() + "'");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("not empty"), std::string::npos) << r.output;
-  r = run_probeless("record --force --no-truth " + source + "'" + (base / "existing").string() + "'");
+  r = run_probeless("record --force --no-truth " + source + "'" + (base / "existing").string() +
+                    "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto rec = Recording::open(base / "existing");
   EXPECT_EQ(rec->rgbd().size(), 2u);  // the source's end, no --frames
@@ -105,8 +107,8 @@ TEST(RecordCommand, RecordsATumSequenceWithoutFisheye) {
   REQUIRE_BINARY();
   const TumFixture tum = make_tum_sequence();
   const fs::path out = testing::scratch_dir() / "from_tum";
-  const RunResult r = run_probeless("record --source 'tum:" + tum.dir.string() +
-                                    "?realtime=0' '" + out.string() + "'");
+  const RunResult r = run_probeless("record --source 'tum:" + tum.dir.string() + "?realtime=0' '" +
+                                    out.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
 
   Rig copy = open_replay_rig(out, PlaybackOptions{false, false, false});
