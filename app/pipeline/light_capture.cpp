@@ -70,6 +70,14 @@ std::optional<Pose> LightCapture::rig_pose_at(const FisheyeFrame& frame) const {
   return std::nullopt;
 }
 
+// The light stage stops; the picture goes on without it and /status says why.
+void LightCapture::fail(const std::string& what) {
+  spdlog::error("light capture: {}", what);
+  std::lock_guard lock(mutex_);
+  state_ = "failed";
+  error_ = what;
+}
+
 void LightCapture::run(std::stop_token stop, StageStats& stats) {
   try {
     ComputeOptions options;
@@ -83,11 +91,7 @@ void LightCapture::run(std::stop_token stop, StageStats& stats) {
     estimator_->light = std::make_unique<light::LightEstimator>(
         *estimator_->ctx, kannala_brandt(calibration_).params(), calibration_.T_rig_fisheye, lc);
   } catch (const std::exception& e) {
-    spdlog::error("light capture: {}", e.what());
-    std::lock_guard lock(mutex_);
-    state_ = "failed";
-    error_ = e.what();
-    return;
+    return fail(e.what());
   }
   {
     std::lock_guard lock(mutex_);
@@ -117,11 +121,7 @@ void LightCapture::run(std::stop_token stop, StageStats& stats) {
       active_keyframe_ = keyframe.id;
       sh_ = estimator_->light->sh();
     } catch (const std::exception& e) {
-      spdlog::error("light capture: {}", e.what());
-      std::lock_guard lock(mutex_);
-      state_ = "failed";
-      error_ = e.what();
-      return;
+      return fail(e.what());
     }
   }
 }

@@ -44,6 +44,7 @@ class LightCapture {
 
  private:
   std::optional<Pose> rig_pose_at(const FisheyeFrame& frame) const;
+  void fail(const std::string& what);
 
   ServiceConfig config_;
   RigCalibration calibration_;

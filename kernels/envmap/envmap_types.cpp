@@ -16,4 +16,22 @@ const char* to_string(UpdateRule rule) {
   return rule == UpdateRule::Kalman ? "kalman" : "best_score";
 }
 
+Eigen::Vector3f cube_face_direction(int face, float u, float v) {
+  const float sc = 2.0F * u - 1.0F, tc = 2.0F * v - 1.0F;
+  switch (face) {
+    case 0:
+      return {1.0F, -tc, -sc};
+    case 1:
+      return {-1.0F, -tc, sc};
+    case 2:
+      return {sc, 1.0F, tc};
+    case 3:
+      return {sc, -1.0F, -tc};
+    case 4:
+      return {sc, -tc, 1.0F};
+    default:
+      return {-sc, -tc, -1.0F};
+  }
+}
+
 }  // namespace probeless::envmap

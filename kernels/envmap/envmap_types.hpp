@@ -31,6 +31,10 @@ inline int face_size_of(const ImageRGBAF& texels) {
 }
 // The radiance of a texel image as a core Cubemap (alpha dropped).
 Cubemap to_cubemap(const ImageRGBAF& texels);
+// OpenGL face coordinates (u, v in [0, 1]) -> direction, not normalised, in float as the
+// kernels compute it (core's cube_direction is the double-precision original); the CPU
+// references of the update and of push-pull share it.
+Eigen::Vector3f cube_face_direction(int face, float u, float v);
 
 enum class UpdateRule {
   Kalman,     // per-texel Kalman filter, every frame

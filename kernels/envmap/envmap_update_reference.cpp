@@ -40,21 +40,7 @@ Eigen::Vector3f texel_direction_reference(int face, int x, int y, int n) {
   const float inv_n = 1.0F / static_cast<float>(n);
   const float u = (static_cast<float>(x) + 0.5F) * inv_n,
               v = (static_cast<float>(y) + 0.5F) * inv_n;
-  const float sc = 2.0F * u - 1.0F, tc = 2.0F * v - 1.0F;
-  switch (face) {
-    case 0:
-      return {1.0F, -tc, -sc};
-    case 1:
-      return {-1.0F, -tc, sc};
-    case 2:
-      return {sc, 1.0F, tc};
-    case 3:
-      return {sc, -1.0F, -tc};
-    case 4:
-      return {sc, -tc, 1.0F};
-    default:
-      return {-sc, -tc, -1.0F};
-  }
+  return cube_face_direction(face, u, v);
 }
 
 std::optional<Eigen::Vector4f> sample_fisheye_reference(const ImageRGBAF& image,

@@ -64,24 +64,6 @@ void pull_push(ImageRGBAF& texels, std::vector<ImageRGBAF>& levels, int mask) {
     push(k == 0 ? texels : levels[k - 1], k == 0, levels[k], mask);
 }
 
-Eigen::Vector3f face_direction(int face, float u, float v) {
-  const float sc = 2.0F * u - 1.0F, tc = 2.0F * v - 1.0F;
-  switch (face) {
-    case 0:
-      return {1.0F, -tc, -sc};
-    case 1:
-      return {-1.0F, -tc, sc};
-    case 2:
-      return {sc, 1.0F, tc};
-    case 3:
-      return {sc, -1.0F, -tc};
-    case 4:
-      return {sc, -tc, 1.0F};
-    default:
-      return {-sc, -tc, -1.0F};
-  }
-}
-
 void seed_borders(ImageRGBAF& texels, int empty_mask, int source_mask) {
   const int n = texels.width();
   const float inv_n = 1.0F / static_cast<float>(n);
@@ -101,8 +83,9 @@ void seed_borders(ImageRGBAF& texels, int empty_mask, int source_mask) {
           x = edge == 2 ? 0 : n - 1;
           du = edge == 2 ? -1.0F : 1.0F;
         }
-        const Eigen::Vector3f d = face_direction(face, (static_cast<float>(x) + 0.5F + du) * inv_n,
-                                                 (static_cast<float>(y) + 0.5F + dv) * inv_n);
+        const Eigen::Vector3f d =
+            cube_face_direction(face, (static_cast<float>(x) + 0.5F + du) * inv_n,
+                                (static_cast<float>(y) + 0.5F + dv) * inv_n);
         const CubeTexel ct = cube_texel_from_direction(d.cast<double>());
         const int source = static_cast<int>(ct.face);
         if (source == face || !(source_mask >> source & 1)) continue;
