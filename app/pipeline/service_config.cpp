@@ -100,8 +100,9 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
     r.get(*t, "enabled", c.light_enabled);
     r.get(*t, "face_size", c.light_face_size);
     r.get(*t, "keyframe_distance_m", c.light_keyframe_distance_m);
-    if (c.light_face_size < 8 || c.light_face_size > 1024)
-      r.fail(t->get("face_size"), "face_size must be 8..1024");
+    // Multiples of 32: the renderer's SH come from the keyframe box-averaged to 32 px faces.
+    if (c.light_face_size < 32 || c.light_face_size > 1024 || c.light_face_size % 32 != 0)
+      r.fail(t->get("face_size"), "face_size must be a multiple of 32 in 32..1024");
     if (!(c.light_keyframe_distance_m > 0))
       r.fail(t->get("keyframe_distance_m"), "keyframe_distance_m must be positive");
   }

@@ -98,6 +98,7 @@ TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[bracket]\nenabled = 1\n"), ParseError);
   EXPECT_THROW(parse_service_config("[bracket]\nmains = 50\n"), ParseError);
   EXPECT_THROW(parse_service_config("[light]\nface_size = 4\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nface_size = 80\n"), ParseError);  // not x32
   EXPECT_THROW(parse_service_config("[light]\nkeyframe_distance_m = 0\n"), ParseError);
 }
 
