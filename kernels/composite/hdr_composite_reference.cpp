@@ -1,0 +1,127 @@
+#include "kernels/composite/hdr_composite_reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "kernels/composite/composite_reference.hpp"
+
+namespace probeless {
+namespace {
+
+void check_gamma(double gamma, const char* who) {
+  // Above ~3 the sqrt index spans more thresholds per entry and the device's encode gets
+  // slower (still exact); above 10 nothing is a camera curve any more.
+  if (!(std::isfinite(gamma) && gamma > 0.0 && gamma <= 10.0))
+    throw std::invalid_argument(std::string(who) + ": gamma " + std::to_string(gamma) +
+                                " must be finite and in (0, 10]");
+}
+
+}  // namespace
+
+void validate(const CameraResponse& camera) {
+  for (int c = 0; c < 3; ++c) {
+    const double e = camera.exposure[static_cast<std::size_t>(c)];
+    // Both e and 1 / e must be normal floats: the device multiplies by 1 / e, and a denormal
+    // (flushed to 0 by some devices) would differ from the reference.
+    if (!(std::isfinite(e) && e >= 1e-30 && e <= 1e30))
+      throw std::invalid_argument("HDR composite: exposure e[" + std::to_string(c) + "] = " +
+                                  std::to_string(e) + " must be finite and in [1e-30, 1e30]");
+  }
+  check_gamma(camera.gamma, "HDR composite");
+}
+
+CameraCurve::CameraCurve(double gamma) : gamma_(gamma), index_(kIndexSize) {
+  check_gamma(gamma, "CameraCurve");
+  for (int v = 0; v < 256; ++v) decode_[v] = static_cast<float>(std::pow(v / 255.0, gamma));
+  thresholds_[0] = 0.0F;
+  for (int v = 1; v < 256; ++v)
+    thresholds_[v] = static_cast<float>(std::pow((v - 0.5) / 255.0, gamma));
+  thresholds_[256] = std::numeric_limits<float>::infinity();
+
+  // Thresholds <= x for a real x (double): a lower bound of encode() for every float >= x.
+  const auto count_at = [this](double x) {
+    return static_cast<int>(std::upper_bound(thresholds_.begin() + 1, thresholds_.end() - 1, x,
+                                             [](double a, float t) { return a < t; }) -
+                            (thresholds_.begin() + 1));
+  };
+  // Entry j covers sqrt(x) in [j, j + 1) / (kIndexSize - 1). The device's sqrt may land one
+  // entry above or below the exact one, so entry j holds the count at the start of entry
+  // j - 1: never above the answer. `steps` is then the most thresholds between the start of
+  // entry b - 2 and the end of entry b, over every b.
+  const double n = kIndexSize - 1;
+  const auto start = [n](int j) { return std::pow(std::max(j, 0) / n, 2.0); };
+  for (int j = 0; j < kIndexSize; ++j)
+    index_[static_cast<std::size_t>(j)] = static_cast<std::uint8_t>(count_at(start(j - 1)));
+  steps_ = 0;
+  for (int b = 0; b < kIndexSize; ++b)
+    steps_ = std::max(steps_, count_at(start(b + 1)) - count_at(start(b - 2)));
+}
+
+std::uint8_t CameraCurve::encode(float x) const {
+  if (!(x > 0.0F)) return 0;  // NaN too
+  return static_cast<std::uint8_t>(
+      std::upper_bound(thresholds_.begin() + 1, thresholds_.end() - 1, x) -
+      (thresholds_.begin() + 1));
+}
+
+std::uint8_t CameraCurve::encode_fast(float x) const {
+  x = std::fmin(std::fmax(x, 0.0F), 1.0F);  // fmax(NaN, 0) = 0, as OpenCL's
+  const int j =
+      std::min(static_cast<int>(std::sqrt(x) * static_cast<float>(kIndexSize - 1)), kIndexSize - 1);
+  int v = index_[static_cast<std::size_t>(j)];
+  for (int k = 0; k < steps_; ++k) v += x >= thresholds_[static_cast<std::size_t>(v) + 1] ? 1 : 0;
+  return static_cast<std::uint8_t>(v);
+}
+
+ExposureFactors exposure_factors(const CameraResponse& camera) {
+  validate(camera);
+  ExposureFactors f;
+  for (std::size_t c = 0; c < 3; ++c) {
+    f.e[c] = static_cast<float>(camera.exposure[c]);
+    f.inverse_e[c] = static_cast<float>(1.0 / camera.exposure[c]);
+  }
+  return f;
+}
+
+float hdr_composite_linear(std::uint8_t real8, float layer, float coverage, float matte, float e,
+                           float inverse_e, const CameraCurve& curve) {
+  const float m = composite_weight(matte);
+  const float c = composite_weight(coverage);
+  // A clipped channel (255) decodes to 1, i.e. the real radiance is taken at the clip: the
+  // least it can be. A shadow then darkens it by its full delta (Walton 2019 ch. 6 gives no
+  // rule for clipped pixels; this one never brightens and keeps the shadow visible).
+  const float real = e * curve.decode(real8);
+  const float w = m * c;
+  const float out = m * layer + (1.0F - w) * real;
+  // Clamped at 0 radiance (a shadow delta larger than the real radiance, e.g. from a light
+  // model brighter than the camera saw), then to the displayable range.
+  return std::fmin(std::fmax(out * inverse_e, 0.0F), 1.0F);
+}
+
+std::uint8_t hdr_composite_channel(std::uint8_t real8, float layer, float coverage, float matte,
+                                   float e, float inverse_e, const CameraCurve& curve) {
+  if (!(matte > 0.0F)) return real8;
+  return curve.encode(hdr_composite_linear(real8, layer, coverage, matte, e, inverse_e, curve));
+}
+
+ImageRGB8 hdr_composite_reference(const ImageRGB8& real_rgb, const Image<float, 4>& layer,
+                                  const ImageF& matte, const CameraResponse& camera) {
+  const int w = real_rgb.width(), h = real_rgb.height();
+  if (layer.width() != w || layer.height() != h || matte.width() != w || matte.height() != h)
+    throw std::invalid_argument("hdr_composite_reference: real, layer and matte differ in size");
+  const ExposureFactors f = exposure_factors(camera);
+  const CameraCurve curve(camera.gamma);
+  ImageRGB8 out(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c)
+        out.at(x, y, c) = hdr_composite_channel(
+            real_rgb.at(x, y, c), layer.at(x, y, c), layer.at(x, y, 3), matte.at(x, y),
+            f.e[static_cast<std::size_t>(c)], f.inverse_e[static_cast<std::size_t>(c)], curve);
+  return out;
+}
+
+}  // namespace probeless
