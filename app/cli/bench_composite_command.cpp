@@ -1,6 +1,7 @@
 // probeless bench composite: the first two stages of a frame (Direct matte, composite) on the
-// OpenCL device, on a synthetic 640x480 frame by default. Every timed region ends with
-// queue.finish(), so the numbers are device time as the pipeline sees it, not enqueue time.
+// OpenCL device, on a synthetic 640x480 frame by default, and the HDR compositor
+// (docs/compositing.md) on the same frame. Every timed region ends with queue.finish(), so the
+// numbers are device time as the pipeline sees it, not enqueue time.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -12,6 +13,7 @@
 #include "app/cli/commands.hpp"
 #include "app/pipeline/stage_stats.hpp"
 #include "kernels/composite/compositor.hpp"
+#include "kernels/composite/hdr_compositor.hpp"
 #include "kernels/occlusion/direct_matte.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_image.hpp"
@@ -34,16 +36,21 @@ double ms_since(Clock::time_point t0) {
 }
 
 // A frame with the structure of a real one: a noisy wall at 2 m with holes, a box in front
-// of part of it, and a virtual disc at 1.5 m in the middle.
+// of part of it, and a virtual disc at 1.5 m in the middle. For the HDR compositor the disc
+// also casts a shadow: an ellipse below it on a receiver 5 cm in front of the wall, which the
+// virtual depth includes (docs/compositing.md: the matte must cover the shadow too).
 struct Frame {
   ImageRGB8 color;
   DepthImage real;
   ImageF virt;
   ImageRGBA8 virt_rgba;
+  ImageF virt_with_receiver;
+  Image<float, 4> layer;  // premultiplied radiance + coverage
 };
 
 Frame synthetic_frame(int w, int h) {
-  Frame f{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h), ImageRGBA8(w, h)};
+  Frame f{ImageRGB8(w, h),  DepthImage(w, h), ImageF(w, h),
+          ImageRGBA8(w, h), ImageF(w, h),     Image<float, 4>(w, h)};
   std::mt19937 rng(1);
   std::normal_distribution<float> noise(0.0F, 8.0F);
   std::uniform_int_distribution<int> byte(0, 255), hole(0, 49);
@@ -56,6 +63,15 @@ Frame synthetic_frame(int w, int h) {
       f.virt.at(x, y) = dx * dx + dy * dy < static_cast<float>(h * h) / 9.0F ? 1500.0F : 0.0F;
       for (int c = 0; c < 3; ++c) f.color.at(x, y, c) = static_cast<std::uint8_t>(byte(rng));
       for (int c = 0; c < 4; ++c) f.virt_rgba.at(x, y, c) = static_cast<std::uint8_t>(byte(rng));
+      const bool object = f.virt.at(x, y) > 0.0F;
+      const float sy = (dy - static_cast<float>(h) / 4.0F) / (static_cast<float>(h) / 5.0F);
+      const float sx = dx / (static_cast<float>(h) / 2.5F);
+      const bool shadow = !object && sx * sx + sy * sy < 1.0F;
+      f.virt_with_receiver.at(x, y) = object ? 1500.0F : (shadow ? 1950.0F : 0.0F);
+      float* l = &f.layer.at(x, y, 0);
+      for (int c = 0; c < 3; ++c)
+        l[c] = object ? 0.2F + 0.1F * static_cast<float>(c) : (shadow ? -0.05F : 0.0F);
+      l[3] = object ? 1.0F : 0.0F;
     }
   return f;
 }
@@ -88,6 +104,7 @@ void run(const BenchOptions& o) {
   occlusion::DirectMatte direct(
       ctx, o.direct2 ? occlusion::UnknownDepth::Visible : occlusion::UnknownDepth::Occluded);
   Compositor compositor(ctx);
+  HdrCompositor hdr(ctx);
   const double programs_ms = ms_since(t_programs);
   const auto cache = ctx.cache_stats();
 
@@ -123,13 +140,35 @@ void run(const BenchOptions& o) {
               compositor.process(color, virt_rgba, alpha, out);
               out.download(ctx.queue(), result);
             }));
+
+  // HDR compositing: the matte of the object and its shadow's receiver, computed once.
+  DeviceImageF virt_with_receiver(ctx, host.virt_with_receiver), hdr_alpha;
+  DeviceImage<float, 4> layer(ctx, host.layer);
+  direct.process({&color, &real, &virt_with_receiver}, hdr_alpha);
+  const ImageF hdr_alpha_host = hdr_alpha.download(ctx.queue());
+  std::size_t covered = 0;
+  for (const float a : hdr_alpha_host.elements()) covered += a > 0.0F;
+  const CameraResponse camera{{0.8, 1.0, 1.3}, 2.2};
+  std::cout << fmt::format(
+      "  hdr composite: matte > 0 on {:.1f} % of the frame (object + shadow receiver)\n",
+      100.0 * static_cast<double>(covered) / static_cast<double>(hdr_alpha_host.pixel_count()));
+  print_row("hdr composite only",
+            time_frames(ctx, o, [&] { hdr.process(color, layer, hdr_alpha, camera, out); }));
+  DeviceImageF everywhere(ctx, ImageF(o.width, o.height, 0.7F));
+  print_row("hdr composite, matte 0.7 everywhere",
+            time_frames(ctx, o, [&] { hdr.process(color, layer, everywhere, camera, out); }));
+  print_row("direct + hdr composite (device)", time_frames(ctx, o, [&] {
+              direct.process({&color, &real, &virt_with_receiver}, hdr_alpha);
+              hdr.process(color, layer, hdr_alpha, camera, out);
+            }));
 }
 
 }  // namespace
 
 void add_bench_composite_command(CLI::App& bench) {
   auto o = std::make_shared<BenchOptions>();
-  auto* cmd = bench.add_subcommand("composite", "Direct matte + composite on the OpenCL device");
+  auto* cmd = bench.add_subcommand("composite",
+                                   "Direct matte + composite (8-bit and HDR) on the OpenCL device");
   cmd->add_option("--width", o->width, "Frame width")->check(CLI::Range(1, 8192));
   cmd->add_option("--height", o->height, "Frame height")->check(CLI::Range(1, 8192));
   cmd->add_option("--frames", o->frames, "Timed frames per row")->check(CLI::Range(1, 100000));
