@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <functional>
 #include <iostream>
 #include <random>
@@ -76,24 +77,32 @@ Frame synthetic_frame(int w, int h) {
   return f;
 }
 
-TimingSummary time_frames(ComputeContext& ctx, const BenchOptions& o,
-                          const std::function<void()>& frame) {
+struct Timing {
+  TimingSummary wall;
+  double cpu_ms_per_frame = 0;  // the process's CPU time (all threads): steadier under load
+};
+
+Timing time_frames(ComputeContext& ctx, const BenchOptions& o, const std::function<void()>& frame) {
   for (int i = 0; i < o.warmup; ++i) frame();
   ctx.queue().finish();
   std::vector<double> samples;
   samples.reserve(static_cast<std::size_t>(o.frames));
+  const double cpu0 = process_cpu_ms();
   for (int i = 0; i < o.frames; ++i) {
     const auto t0 = Clock::now();
     frame();
     ctx.queue().finish();
     samples.push_back(ms_since(t0));
   }
-  return summarize(std::move(samples));
+  const double cpu = (process_cpu_ms() - cpu0) / o.frames;
+  return {summarize(std::move(samples)), cpu};
 }
 
-void print_row(const std::string& label, const TimingSummary& s) {
-  std::cout << fmt::format("  {:<34} p50 {:7.3f} ms  p99 {:7.3f} ms  mean {:7.3f} ms\n", label,
-                           s.p50_ms, s.p99_ms, s.mean_ms);
+void print_row(const std::string& label, const Timing& t) {
+  const auto& s = t.wall;
+  std::cout << fmt::format(
+      "  {:<36} p50 {:7.3f} ms  p99 {:7.3f} ms  mean {:7.3f} ms  cpu {:7.3f} ms/frame\n", label,
+      s.p50_ms, s.p99_ms, s.mean_ms, t.cpu_ms_per_frame);
 }
 
 void run(const BenchOptions& o) {
@@ -119,6 +128,9 @@ void run(const BenchOptions& o) {
   std::cout << fmt::format("bench composite: {} + composite, {}x{}, {} frames ({} warm-up)\n",
                            direct.name(), o.width, o.height, o.frames, o.warmup);
   std::cout << fmt::format("  device: {}\n", ctx.describe());
+  double load[3] = {0, 0, 0};
+  if (getloadavg(load, 3) == 3)
+    std::cout << fmt::format("  load average: {:.2f} {:.2f} {:.2f}\n", load[0], load[1], load[2]);
   std::cout << fmt::format(
       "  start-up: context {:.1f} ms, programs {:.1f} ms ({} from the disk cache, {} compiled; "
       "cache {})\n",

@@ -1,6 +1,7 @@
 #include "kernels/composite/hdr_composite_reference.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -33,7 +34,7 @@ void validate(const CameraResponse& camera) {
   check_gamma(camera.gamma, "HDR composite");
 }
 
-CameraCurve::CameraCurve(double gamma) : gamma_(gamma), index_(kIndexSize) {
+CameraCurve::CameraCurve(double gamma) : gamma_(gamma) {
   check_gamma(gamma, "CameraCurve");
   for (int v = 0; v < 256; ++v) decode_[v] = static_cast<float>(std::pow(v / 255.0, gamma));
   thresholds_[0] = 0.0F;
@@ -41,23 +42,25 @@ CameraCurve::CameraCurve(double gamma) : gamma_(gamma), index_(kIndexSize) {
     thresholds_[v] = static_cast<float>(std::pow((v - 0.5) / 255.0, gamma));
   thresholds_[256] = std::numeric_limits<float>::infinity();
 
-  // Thresholds <= x for a real x (double): a lower bound of encode() for every float >= x.
-  const auto count_at = [this](double x) {
-    return static_cast<int>(std::upper_bound(thresholds_.begin() + 1, thresholds_.end() - 1, x,
-                                             [](double a, float t) { return a < t; }) -
-                            (thresholds_.begin() + 1));
+  // Entry 0 starts at the power of two at or below t[1], so every smaller x (counted 0) may
+  // share it; gamma <= 10 keeps that a normal float (t[1] >= 510^-10).
+  const int low_exponent = static_cast<int>(std::floor(std::log2(thresholds_[1])));
+  index_base_ = (127 + low_exponent) << (23 - kIndexShift);
+  index_last_ = (std::bit_cast<std::uint32_t>(1.0F) >> kIndexShift) - index_base_;
+  const auto start = [this](int j) {
+    return std::bit_cast<float>(static_cast<std::uint32_t>(index_base_ + j) << kIndexShift);
   };
-  // Entry j covers sqrt(x) in [j, j + 1) / (kIndexSize - 1). The device's sqrt may land one
-  // entry above or below the exact one, so entry j holds the count at the start of entry
-  // j - 1: never above the answer. `steps` is then the most thresholds between the start of
-  // entry b - 2 and the end of entry b, over every b.
-  const double n = kIndexSize - 1;
-  const auto start = [n](int j) { return std::pow(std::max(j, 0) / n, 2.0); };
-  for (int j = 0; j < kIndexSize; ++j)
-    index_[static_cast<std::size_t>(j)] = static_cast<std::uint8_t>(count_at(start(j - 1)));
-  steps_ = 0;
-  for (int b = 0; b < kIndexSize; ++b)
-    steps_ = std::max(steps_, count_at(start(b + 1)) - count_at(start(b - 2)));
+  entries_.assign(2 * static_cast<std::size_t>(index_last_ + 1), 0);
+  steps_ = 1;
+  for (int j = 0; j <= index_last_; ++j) {
+    const int count = j == 0 ? 0 : encode(start(j));
+    entries_[2 * static_cast<std::size_t>(j)] = static_cast<std::uint32_t>(count);
+    entries_[2 * static_cast<std::size_t>(j) + 1] =
+        std::bit_cast<std::uint32_t>(thresholds_[static_cast<std::size_t>(count) + 1]);
+    // The most any x of this entry needs: the count at its last float (1.0 for the last).
+    const float end = j == index_last_ ? 1.0F : std::nextafter(start(j + 1), 0.0F);
+    steps_ = std::max(steps_, encode(end) - count);
+  }
 }
 
 std::uint8_t CameraCurve::encode(float x) const {
@@ -68,11 +71,13 @@ std::uint8_t CameraCurve::encode(float x) const {
 }
 
 std::uint8_t CameraCurve::encode_fast(float x) const {
-  x = std::fmin(std::fmax(x, 0.0F), 1.0F);  // fmax(NaN, 0) = 0, as OpenCL's
+  x = composite_weight(x);  // [0, 1], NaN as 0
   const int j =
-      std::min(static_cast<int>(std::sqrt(x) * static_cast<float>(kIndexSize - 1)), kIndexSize - 1);
-  int v = index_[static_cast<std::size_t>(j)];
-  for (int k = 0; k < steps_; ++k) v += x >= thresholds_[static_cast<std::size_t>(v) + 1] ? 1 : 0;
+      std::clamp(static_cast<int>(std::bit_cast<std::uint32_t>(x) >> kIndexShift) - index_base_, 0,
+                 index_last_);
+  const std::size_t e = 2 * static_cast<std::size_t>(j);
+  std::uint32_t v = entries_[e] + (x >= std::bit_cast<float>(entries_[e + 1]) ? 1 : 0);
+  for (int k = 1; k < steps_; ++k) v += x >= thresholds_[v + 1] ? 1 : 0;
   return static_cast<std::uint8_t>(v);
 }
 
@@ -98,7 +103,7 @@ float hdr_composite_linear(std::uint8_t real8, float layer, float coverage, floa
   const float out = m * layer + (1.0F - w) * real;
   // Clamped at 0 radiance (a shadow delta larger than the real radiance, e.g. from a light
   // model brighter than the camera saw), then to the displayable range.
-  return std::fmin(std::fmax(out * inverse_e, 0.0F), 1.0F);
+  return composite_weight(out * inverse_e);  // NaN (from a NaN layer) as 0
 }
 
 std::uint8_t hdr_composite_channel(std::uint8_t real8, float layer, float coverage, float matte,

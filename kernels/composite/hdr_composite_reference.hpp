@@ -39,36 +39,43 @@ void validate(const CameraResponse& camera);
 //   decode(v) = (v / 255)^gamma, rounded to float once.
 //   encode(x) = round(255 * clamp(x, 0, 1)^(1 / gamma)), half up, defined exactly as the number
 //   of thresholds t[v] = ((v - 0.5) / 255)^gamma (v = 1..255, rounded to float) that are <= x.
-// encode needs no pow: the device looks a first guess up in `index` (kIndexSize entries over
-// sqrt(x), where the curve is gentle enough that three neighbouring entries span at most
-// `steps` thresholds), then steps up over the thresholds. The guess is never above the answer,
-// even when the device's sqrt lands one entry off, so the result is the threshold count on
-// every device, bit for bit.
+// encode needs no pow, and on the device no search: x's float bits >> kIndexShift (exponent and
+// 7 mantissa bits, 128 entries per octave, where the curve moves less than 1 DN) pick an entry
+// holding the threshold count at the entry's start and the next threshold. One compare gives
+// the count when no entry spans two thresholds (steps() == 1, every gamma from 1 to 3); steeper
+// curves take steps() - 1 more single steps. Integer arithmetic on the bits: the same entry on
+// every device, so the result is the threshold count, bit for bit.
 class CameraCurve {
  public:
-  static constexpr int kIndexSize = 4096;
+  static constexpr int kIndexShift = 16;
 
   explicit CameraCurve(double gamma);  // throws std::invalid_argument like validate()
 
   double gamma() const { return gamma_; }
   float decode(std::uint8_t v) const { return decode_[v]; }
   std::uint8_t encode(float x) const;  // NaN and x <= 0 give 0; x >= 1 gives 255
-  // The first guess from `index`, then `steps` single steps (the device's path).
+  // The table path the device takes (the kernel's encode3), for the tests to compare.
   std::uint8_t encode_fast(float x) const;
 
   const std::array<float, 256>& decode_table() const { return decode_; }
-  // 257 entries: [0] = 0 (unused), [v] = t[v], [256] = +infinity (the device steps past 255
-  // without a bound check).
+  // 257 entries: [0] = 0 (unused), [v] = t[v], [256] = +infinity (a step past 255 never lands).
   const std::array<float, 257>& thresholds() const { return thresholds_; }
-  const std::vector<std::uint8_t>& index() const { return index_; }
-  int steps() const { return steps_; }
+  // Entry j (0..index_last()) covers the floats whose bits >> kIndexShift are index_base() + j;
+  // smaller x clamp to entry 0 and 1.0 is the last. Two words per entry: the count at the
+  // entry's start (0 for entry 0) and the bits of the next threshold.
+  const std::vector<std::uint32_t>& entries() const { return entries_; }
+  int index_base() const { return index_base_; }
+  int index_last() const { return index_last_; }
+  int steps() const { return steps_; }  // >= 1
 
  private:
   double gamma_;
   std::array<float, 256> decode_{};
   std::array<float, 257> thresholds_{};
-  std::vector<std::uint8_t> index_;
-  int steps_ = 0;
+  std::vector<std::uint32_t> entries_;
+  int index_base_ = 0;
+  int index_last_ = 0;
+  int steps_ = 1;
 };
 
 // What the device receives per channel: e and 1 / e as floats.

@@ -3,113 +3,71 @@
 // through the occlusion matte (differential rendering, Debevec 1998; Walton 2019 ch. 6), and
 // back through the same response. Bit-exact with hdr_composite_reference: contraction is off,
 // every float operation is the reference's in the same order, and the 8-bit encode counts
-// thresholds from a table instead of calling pow.
-// Each work-item takes 4 neighbouring pixels of a row as explicit vectors (the layout of
-// kernels/hdr/hdr_conversion.cl, which measured 2-2.5x faster on PoCL than one pixel per
-// work-item); a group of 4 whose matte is 0 everywhere copies its bytes and skips the float
-// layer, which is most of a frame. The last item of a row whose width is not a multiple of 4
-// takes the scalar path.
+// thresholds from tables instead of calling pow.
+//
+// The host copies the real frame to the output first, and this kernel rewrites only pixels
+// whose matte is > 0, usually a small part of the frame. Each work-item walks PIXELS pixels
+// and skips the others at the cost of one float load. PoCL does not vectorise this across
+// work-items (3-byte pixels and per-channel table lookups defeat its vectoriser, and with
+// gathers a vectorised variant was slower), so the 3 channels of a pixel are one float4
+// (docs/performance.md "HDR compositing").
 #pragma OPENCL FP_CONTRACT OFF
 
-#define INDEX_SCALE 4095.0f  // CameraCurve::kIndexSize - 1
-#define INDEX_LAST 4095
+#ifndef STEPS
+#error "build with -DSTEPS=n, CameraCurve::steps() of the gamma in use"
+#endif
 
+#define PIXELS 16       // per work-item: HdrCompositor::kPixelsPerItem
+#define INDEX_SHIFT 16  // CameraCurve::kIndexShift: 7 mantissa bits, 128 entries per octave
+
+// composite_weight: clamp to [0, 1] with NaN as 0.
 inline float weight(float a) {
   return a > 0.0f ? (a < 1.0f ? a : 1.0f) : 0.0f;
 }
 
 inline float4 weight4(float4 a) {
-  return select((float4)(0.0f), min(a, 1.0f), a > 0.0f);  // NaN > 0 is false: 0
+  const float4 below_one = select((float4)(1.0f), a, a < 1.0f);  // inf and NaN: 1
+  return select((float4)(0.0f), below_one, a > 0.0f);            // NaN and <= 0: 0
 }
 
-// CameraCurve::encode_fast: a guess from the sqrt index (never above the answer), then steps.
-inline uchar encode(float x, __global const uchar* index, __global const float* thresholds,
-                    int steps) {
-  x = fmin(fmax(x, 0.0f), 1.0f);
-  const int j = min((int)(sqrt(x) * INDEX_SCALE), INDEX_LAST);
-  int v = index[j];
-  for (int k = 0; k < steps; ++k) v += x >= thresholds[v + 1] ? 1 : 0;
-  return (uchar)v;
-}
-
-inline int4 encode4(float4 x, __global const uchar* index, __global const float* thresholds,
-                    int steps) {
-  x = fmin(fmax(x, 0.0f), 1.0f);
-  const int4 j = min(convert_int4(sqrt(x) * INDEX_SCALE), INDEX_LAST);
-  int4 v = (int4)(index[j.s0], index[j.s1], index[j.s2], index[j.s3]);
-  for (int k = 0; k < steps; ++k) {
-    const float4 t = (float4)(thresholds[v.s0 + 1], thresholds[v.s1 + 1], thresholds[v.s2 + 1],
-                              thresholds[v.s3 + 1]);
-    v -= x >= t;  // true is -1 in vector comparisons
+// CameraCurve::encode_fast on three channels: the entry of x's float bits (sign, exponent, 7
+// mantissa bits) holds the threshold count at the entry's start and the next threshold, so
+// one load and one compare give the answer; further STEPS only for steep curves.
+inline uint3 encode3(float4 x, __global const uint* entries, int index_base, int index_last,
+                     __global const float* thresholds) {
+  const int4 j = clamp((as_int4(x) >> INDEX_SHIFT) - index_base, 0, index_last);
+  const uint2 a = vload2(j.x, entries), b = vload2(j.y, entries), c = vload2(j.z, entries);
+  uint3 v = (uint3)(a.x, b.x, c.x);
+  v.x += x.x >= as_float(a.y) ? 1u : 0u;
+  v.y += x.y >= as_float(b.y) ? 1u : 0u;
+  v.z += x.z >= as_float(c.y) ? 1u : 0u;
+  for (int k = 1; k < STEPS; ++k) {
+    v.x += x.x >= thresholds[v.x + 1] ? 1u : 0u;
+    v.y += x.y >= thresholds[v.y + 1] ? 1u : 0u;
+    v.z += x.z >= thresholds[v.z + 1] ? 1u : 0u;
   }
   return v;
 }
 
-// One channel of one pixel, hdr_composite_linear's operations.
-inline float composite_one(float real, float layer, float m, float w, float inverse_e) {
-  return (m * layer + (1.0f - w) * real) * inverse_e;
-}
-
+// n = pixel count; the frame is flattened (nothing depends on x or y).
 __kernel void hdr_composite(__global const uchar* real_rgb, __global const float* layer,
-                            __global const float* matte, __global uchar* out_rgb, int width,
-                            int height, float4 e, float4 inverse_e, __global const float* decode,
-                            __global const float* thresholds, __global const uchar* index,
-                            int steps) {
-  const int x0 = 4 * get_global_id(0);
-  const int y = get_global_id(1);
-  if (x0 >= width || y >= height) return;
-  const int i0 = y * width + x0;
-  if (x0 + 4 <= width) {
-    const uchar8 a = vload8(0, real_rgb + 3 * i0);
-    const uchar4 b = vload4(0, real_rgb + 3 * i0 + 8);
-    const float4 m_raw = vload4(0, matte + i0);
-    const int4 visible = m_raw > 0.0f;
-    if (!any(visible)) {  // no virtual layer here, or all of it hidden: the frame as it was
-      vstore8(a, 0, out_rgb + 3 * i0);
-      vstore4(b, 0, out_rgb + 3 * i0 + 8);
-      return;
-    }
-    const int4 r8 = (int4)(a.s0, a.s3, a.s6, b.s1);
-    const int4 g8 = (int4)(a.s1, a.s4, a.s7, b.s2);
-    const int4 b8 = (int4)(a.s2, a.s5, b.s0, b.s3);
-    const float16 l = vload16(0, layer + 4 * i0);
-    const float4 m = weight4(m_raw);
-    const float4 w = m * weight4(l.s37bf);
-    const float4 one_minus_w = 1.0f - w;
-    const float4 rr = e.x * (float4)(decode[r8.s0], decode[r8.s1], decode[r8.s2], decode[r8.s3]);
-    const float4 rg = e.y * (float4)(decode[g8.s0], decode[g8.s1], decode[g8.s2], decode[g8.s3]);
-    const float4 rb = e.z * (float4)(decode[b8.s0], decode[b8.s1], decode[b8.s2], decode[b8.s3]);
-    const int4 o_r = select(
-        r8, encode4((m * l.s048c + one_minus_w * rr) * inverse_e.x, index, thresholds, steps),
-        visible);
-    const int4 o_g = select(
-        g8, encode4((m * l.s159d + one_minus_w * rg) * inverse_e.y, index, thresholds, steps),
-        visible);
-    const int4 o_b = select(
-        b8, encode4((m * l.s26ae + one_minus_w * rb) * inverse_e.z, index, thresholds, steps),
-        visible);
-    vstore8(convert_uchar8((int8)(o_r.s0, o_g.s0, o_b.s0, o_r.s1, o_g.s1, o_b.s1, o_r.s2, o_g.s2)),
-            0, out_rgb + 3 * i0);
-    vstore4(convert_uchar4((int4)(o_b.s2, o_r.s3, o_g.s3, o_b.s3)), 0, out_rgb + 3 * i0 + 8);
-  } else {
-    for (int x = x0; x < width; ++x) {
-      const int i = y * width + x;
-      const float m_raw = matte[i];
-      if (!(m_raw > 0.0f)) {
-        for (int c = 0; c < 3; ++c) out_rgb[3 * i + c] = real_rgb[3 * i + c];
-        continue;
-      }
-      const float4 l = vload4(i, layer);
-      const float m = weight(m_raw);
-      const float w = m * weight(l.w);
-      out_rgb[3 * i] = encode(composite_one(e.x * decode[real_rgb[3 * i]], l.x, m, w, inverse_e.x),
-                              index, thresholds, steps);
-      out_rgb[3 * i + 1] =
-          encode(composite_one(e.y * decode[real_rgb[3 * i + 1]], l.y, m, w, inverse_e.y), index,
-                 thresholds, steps);
-      out_rgb[3 * i + 2] =
-          encode(composite_one(e.z * decode[real_rgb[3 * i + 2]], l.z, m, w, inverse_e.z), index,
-                 thresholds, steps);
-    }
+                            __global const float* matte, __global uchar* out_rgb, int n, float4 e,
+                            float4 inverse_e, __global const float* decode,
+                            __global const float* thresholds, __global const uint* entries,
+                            int index_base, int index_last) {
+  const int i0 = PIXELS * get_global_id(0);
+  if (i0 >= n) return;
+  const int end = min(i0 + PIXELS, n);
+  for (int i = i0; i < end; ++i) {
+    const float m_raw = matte[i];
+    if (!(m_raw > 0.0f)) continue;  // no virtual layer, or all of it hidden: out = real
+    const float m = weight(m_raw);
+    const float4 l = vload4(i, layer);
+    const float w = m * weight(l.w);
+    const uchar3 r8 = vload3(i, real_rgb);
+    // hdr_composite_linear's operations per channel (w is the 4th lane's business only).
+    const float4 real = e * (float4)(decode[r8.x], decode[r8.y], decode[r8.z], 0.0f);
+    const float4 x = weight4((m * l + (1.0f - w) * real) * inverse_e);
+    vstore3(convert_uchar3(encode3(x, entries, index_base, index_last, thresholds)), i, out_rgb);
   }
 }

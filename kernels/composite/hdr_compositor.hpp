@@ -32,14 +32,16 @@ class HdrCompositor {
                const DeviceImageF& matte, const CameraResponse& camera, DeviceImageRGB8& out);
 
  private:
-  void use_gamma(double gamma);  // (re)builds and uploads the curve's tables on a change
+  // (Re)builds and uploads the curve's tables on a change of gamma, and the kernel when the
+  // number of encode steps (a -D option) changes with it.
+  void use_gamma(double gamma);
 
-  static constexpr int kPixelsPerItem = 4;  // hdr_compositor.cl's vector width
+  static constexpr int kPixelsPerItem = 16;  // PIXELS in hdr_compositor.cl
 
   ComputeContext& ctx_;
   ::cl::Kernel kernel_;
   std::optional<CameraCurve> curve_;
-  ::cl::Buffer decode_, thresholds_, index_;
+  ::cl::Buffer decode_, thresholds_, entries_;
 };
 
 }  // namespace probeless

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -27,6 +28,12 @@ float next_up(float x, int ulps) {
   for (int i = 0; i < ulps; ++i) x = std::nextafter(x, kInf);
   for (int i = 0; i > ulps; --i) x = std::nextafter(x, -kInf);
   return x;
+}
+
+// The first float of the encode table's entry j.
+float entry_start(const CameraCurve& curve, int j) {
+  return std::bit_cast<float>(static_cast<std::uint32_t>(curve.index_base() + j)
+                              << CameraCurve::kIndexShift);
 }
 
 // round(255 x^(1/gamma)) in double: the definition encode() implements with float thresholds.
@@ -56,7 +63,7 @@ TEST(CameraCurve, EncodeIsRoundedInverseGamma) {
   EXPECT_EQ(curve.encode(kNaN), 0);
   EXPECT_EQ(curve.encode(1.0F), 255);
   EXPECT_EQ(curve.encode(7.0F), 255);
-  EXPECT_EQ(curve.encode(0.5F), 186);    // 255 * 0.5^(1/2.2) = 186.1
+  EXPECT_EQ(curve.encode(0.5F), 186);   // 255 * 0.5^(1/2.2) = 186.1
   EXPECT_EQ(curve.encode(0.2F), 123);   // 255 * 0.2^(1/2.2) = 122.7
   EXPECT_EQ(curve.encode(0.21F), 125);  // 125.4
   std::mt19937 rng(11);
@@ -75,16 +82,14 @@ TEST(CameraCurve, EncodeIsRoundedInverseGamma) {
 // The device's path (sqrt index + steps) against the threshold count, on dense samples and on
 // every float near a threshold or an index boundary, for several gammas.
 TEST(CameraCurve, FastEncodeEqualsTheThresholdCount) {
-  for (const double gamma : {1.0, 1.8, 2.2, 2.4, 2.8, 4.0}) {
+  for (const double gamma : {0.4, 1.0, 1.8, 2.2, 2.4, 2.8, 4.0, 10.0}) {
     const CameraCurve curve(gamma);
     int mismatches = 0;
     const auto check = [&](float x) { mismatches += curve.encode_fast(x) != curve.encode(x); };
     for (int v = 1; v < 256; ++v)
       for (int u = -8; u <= 8; ++u) check(next_up(curve.thresholds()[v], u));
-    for (int j = 0; j < CameraCurve::kIndexSize; ++j) {
-      const float s = static_cast<float>(j) / (CameraCurve::kIndexSize - 1);
-      for (int u = -8; u <= 8; ++u) check(next_up(s * s, u));
-    }
+    for (int j = 0; j <= curve.index_last(); ++j)
+      for (int u = -8; u <= 8; ++u) check(next_up(entry_start(curve, j), u));
     // Every 4096th float bit pattern in [0, 1]: ~260 000 values across all exponents.
     for (std::uint32_t bits = 0; bits <= 0x3f800000U; bits += 4096) {
       float x;
@@ -93,8 +98,9 @@ TEST(CameraCurve, FastEncodeEqualsTheThresholdCount) {
     }
     EXPECT_EQ(mismatches, 0) << "gamma " << gamma;
   }
-  // The cost of the fast path: one step per channel for the usual curve.
-  EXPECT_EQ(CameraCurve(2.2).steps(), 1);
+  // The cost of the fast path: one compare per channel for camera curves.
+  for (const double gamma : {1.0, 1.8, 2.2, 2.4, 2.8}) EXPECT_EQ(CameraCurve(gamma).steps(), 1);
+  EXPECT_GT(CameraCurve(0.4).steps(), 1);  // steep: the extra steps ran above
 }
 
 // --- the composite, by hand ------------------------------------------------------------
@@ -382,7 +388,7 @@ TEST(HdrCompositor, MatchesTheReferenceExactlyOnEverySize) {
   std::mt19937 rng(5);
   std::uniform_int_distribution<int> byte(0, 255);
   std::uniform_real_distribution<double> log_e(-2.0, 2.0);
-  const double gammas[] = {2.2, 1.8, 2.6};
+  const double gammas[] = {2.2, 1.8, 2.6, 0.4};  // 0.4: a curve that needs several steps
   int run = 0;
   for (const auto& [w, h] : testing::kernel_test_sizes()) {
     ImageRGB8 real(w, h);
@@ -391,7 +397,7 @@ TEST(HdrCompositor, MatchesTheReferenceExactlyOnEverySize) {
     const auto matte = random_matte(w, h, rng);
     const CameraResponse camera{
         {std::pow(10.0, log_e(rng)), std::pow(10.0, log_e(rng)), std::pow(10.0, log_e(rng))},
-        gammas[run++ % 3]};
+        gammas[run++ % 4]};
     compositor.process(DeviceImageRGB8(ctx, real), DeviceImage<float, 4>(ctx, layer),
                        DeviceImageF(ctx, matte), camera, out);
     const auto expected = hdr_composite_reference(real, layer, matte, camera);
@@ -413,10 +419,8 @@ TEST(HdrCompositor, EncodesLikeTheReferenceNearEveryBoundary) {
   std::vector<float> xs;
   for (int v = 1; v < 256; ++v)
     for (int u = -4; u <= 4; ++u) xs.push_back(next_up(curve.thresholds()[v], u));
-  for (int j = 0; j < CameraCurve::kIndexSize; ++j) {
-    const float s = static_cast<float>(j) / (CameraCurve::kIndexSize - 1);
-    for (int u = -4; u <= 4; ++u) xs.push_back(next_up(s * s, u));
-  }
+  for (int j = 0; j <= curve.index_last(); ++j)
+    for (int u = -4; u <= 4; ++u) xs.push_back(next_up(entry_start(curve, j), u));
   const int w = 512, h = static_cast<int>((xs.size() + w - 1) / w);
   ImageRGB8 real(w, h, 0);
   ImageRGBAF layer(w, h, 0.0F);
