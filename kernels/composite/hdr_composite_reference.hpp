@@ -24,7 +24,7 @@
 
 namespace probeless {
 
-// The colour camera as the compositor models it (docs/light-capture.md, kernels/hdr/
+// The colour camera as the compositor models it (docs/lighting.md, kernels/hdr/
 // colour_exposure.hpp): linear = (c / 255)^gamma, radiance = exposure[c] * linear.
 struct CameraResponse {
   std::array<double, 3> exposure{1.0, 1.0, 1.0};  // e per channel, from ColourExposureEstimator
@@ -42,9 +42,10 @@ void validate(const CameraResponse& camera);
 // encode needs no pow, and on the device no search: x's float bits >> kIndexShift (exponent and
 // 7 mantissa bits, 128 entries per octave, where the curve moves less than 1 DN) pick an entry
 // holding the threshold count at the entry's start and the next threshold. One compare gives
-// the count when no entry spans two thresholds (steps() == 1, every gamma from 1 to 3); steeper
-// curves take steps() - 1 more single steps. Integer arithmetic on the bits: the same entry on
-// every device, so the result is the threshold count, bit for bit.
+// the count when no entry spans two thresholds (steps() == 1 for every gamma >= 1: an entry
+// spans at most 255 / (256 gamma) DN); gamma < 1 takes steps() - 1 more single steps. Integer
+// arithmetic on the bits: the same entry on every device, so the result is the threshold count, bit
+// for bit.
 class CameraCurve {
  public:
   static constexpr int kIndexShift = 16;
