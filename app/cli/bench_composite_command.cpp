@@ -166,6 +166,9 @@ void run(const BenchOptions& o) {
       100.0 * static_cast<double>(covered) / static_cast<double>(hdr_alpha_host.pixel_count()));
   print_row("hdr composite only",
             time_frames(ctx, o, [&] { hdr.process(color, layer, hdr_alpha, camera, out); }));
+  DeviceImageF nowhere(ctx, ImageF(o.width, o.height, 0.0F));
+  print_row("hdr composite, matte 0 (the copy)",
+            time_frames(ctx, o, [&] { hdr.process(color, layer, nowhere, camera, out); }));
   DeviceImageF everywhere(ctx, ImageF(o.width, o.height, 0.7F));
   print_row("hdr composite, matte 0.7 everywhere",
             time_frames(ctx, o, [&] { hdr.process(color, layer, everywhere, camera, out); }));
