@@ -1,5 +1,7 @@
 #include "kernels/composite/hdr_composite_reference.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -13,11 +15,11 @@ namespace probeless {
 namespace {
 
 void check_gamma(double gamma, const char* who) {
-  // Above ~3 the sqrt index spans more thresholds per entry and the device's encode gets
-  // slower (still exact); above 10 nothing is a camera curve any more.
+  // Below 1 the device's encode takes extra steps (still exact); above 10 the encode table
+  // passes 11 500 entries, and nothing is a camera's curve any more.
   if (!(std::isfinite(gamma) && gamma > 0.0 && gamma <= 10.0))
-    throw std::invalid_argument(std::string(who) + ": gamma " + std::to_string(gamma) +
-                                " must be finite and in (0, 10]");
+    throw std::invalid_argument(
+        fmt::format("{}: gamma {} must be finite and in (0, 10]", who, gamma));
 }
 
 }  // namespace
@@ -28,8 +30,8 @@ void validate(const CameraResponse& camera) {
     // Both e and 1 / e must be normal floats: the device multiplies by 1 / e, and a denormal
     // (flushed to 0 by some devices) would differ from the reference.
     if (!(std::isfinite(e) && e >= 1e-30 && e <= 1e30))
-      throw std::invalid_argument("HDR composite: exposure e[" + std::to_string(c) + "] = " +
-                                  std::to_string(e) + " must be finite and in [1e-30, 1e30]");
+      throw std::invalid_argument(fmt::format(
+          "HDR composite: exposure e[{}] = {} must be finite and in [1e-30, 1e30]", c, e));
   }
   check_gamma(camera.gamma, "HDR composite");
 }
@@ -95,9 +97,10 @@ float hdr_composite_linear(std::uint8_t real8, float layer, float coverage, floa
                            float inverse_e, const CameraCurve& curve) {
   const float m = composite_weight(matte);
   const float c = composite_weight(coverage);
-  // A clipped channel (255) decodes to 1, i.e. the real radiance is taken at the clip: the
-  // least it can be. A shadow then darkens it by its full delta (Walton 2019 ch. 6 gives no
-  // rule for clipped pixels; this one never brightens and keeps the shadow visible).
+  // A clipped channel (255) decodes to 1: the real radiance is taken at the clip, the least it
+  // can be, and a shadow darkens it by its full delta. Walton 2019 ch. 6 gives no rule for
+  // clipped pixels; this one keeps a shadow on a blown-out surface visible, at least as dark
+  // as the truth (docs/compositing.md "Clamping and clipped pixels").
   const float real = e * curve.decode(real8);
   const float w = m * c;
   const float out = m * layer + (1.0F - w) * real;
