@@ -8,9 +8,9 @@
 // The host copies the real frame to the output first, and this kernel rewrites only pixels
 // whose matte is > 0, usually a small part of the frame. Each work-item walks PIXELS pixels
 // and skips the others at the cost of one float load. PoCL does not vectorise this across
-// work-items (3-byte pixels and per-channel table lookups defeat its vectoriser, and with
-// gathers a vectorised variant was slower), so the 3 channels of a pixel are one float4
-// (docs/performance.md "HDR compositing").
+// work-items (3-byte pixels, per-channel code and a byte table each defeat its vectoriser,
+// and a variant it did vectorise was slower, with gathers), so the 3 channels of a pixel are
+// one float4 (docs/performance.md "HDR compositing").
 #pragma OPENCL FP_CONTRACT OFF
 
 #ifndef STEPS
