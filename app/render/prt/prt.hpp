@@ -59,8 +59,9 @@ struct Plane {
 
 // The receiver grid for differential rendering: a square on the plane centred under the
 // object's bounding box, `side_radii` times the bounding sphere's radius (half the box's
-// diagonal) on a side, `subdivisions` quads per side. An even count puts a vertex exactly
-// under the centre (the contact point of an object standing there).
+// diagonal) on a side, `subdivisions` quads per side, graded: the spacing at the centre is a
+// third of the uniform one and at the edge 7/3 of it (the contact shadow changes fastest near
+// the object). An even count puts a vertex exactly under the centre.
 struct Ground {
   Plane plane{};
   float side_radii = 8.f;

@@ -151,7 +151,7 @@ TEST(PrtMirror, MirrorSphereCastsALighterShadow) {
   ref_scene.mirror = true;
   ref_scene.reflectance = 0.9;
   const int k = Ground{}.subdivisions, centre = k / 2;
-  for (int step : {1, 3, 5, 10}) {
+  for (int step : {3, 5, 10, 20}) {
     const std::size_t v = static_cast<std::size_t>(centre * (k + 1) + centre + step);
     const float dark = a.ground_with_object.at(v)[0], light = b.ground_with_object.at(v)[0];
     const auto ref = testing::reference_transfer(ref_scene, b.ground.positions[v].cast<double>(),
