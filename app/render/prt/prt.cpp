@@ -58,6 +58,8 @@ Eigen::Vector3f check_ground(const Ground& g) {
   if (!std::isfinite(g.side_radii) || !(g.side_radii > 0.f))
     throw std::invalid_argument(
         fmt::format("prt: ground side_radii must be positive (got {})", g.side_radii));
+  if (g.side && (!std::isfinite(*g.side) || !(*g.side > 0.f)))
+    throw std::invalid_argument(fmt::format("prt: ground side must be positive (got {})", *g.side));
   if (g.subdivisions < 1 || g.subdivisions > kMaxSubdivisions)
     throw std::invalid_argument(fmt::format("prt: ground subdivisions must be 1..{} (got {})",
                                             kMaxSubdivisions, g.subdivisions));
@@ -101,7 +103,7 @@ render::Mesh make_ground_grid(const render::Mesh& object, const Ground& ground) 
   // Centred where the bounding box's centre drops onto the plane: under the object.
   const Eigen::Vector3f centre = b.centre - (b.centre - ground.plane.point).dot(n) * n;
   const Eigen::Matrix3f frame = orthonormal_basis(n.cast<double>()).cast<float>();
-  const float side = ground.side_radii * b.radius;
+  const float side = ground.side ? *ground.side : ground.side_radii * b.radius;
   const int k = ground.subdivisions;
 
   render::Mesh grid;

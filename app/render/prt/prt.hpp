@@ -65,6 +65,9 @@ struct Plane {
 struct Ground {
   Plane plane{};
   float side_radii = 8.f;
+  // When set, the side in object-frame units instead (a world size divided by the object's
+  // scale, e.g. the config's [ground] size_m).
+  std::optional<float> side{};
   int subdivisions = 64;
 };
 

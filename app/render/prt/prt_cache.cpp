@@ -58,10 +58,10 @@ std::string bake_cache_key(const render::Mesh& object, const Scene& scene,
   std::string ground = "none";
   if (scene.ground) {
     const Ground& g = *scene.ground;
-    ground =
-        fmt::format("point {:a} {:a} {:a} normal {:a} {:a} {:a} side {:a} sub {}",
-                    g.plane.point.x(), g.plane.point.y(), g.plane.point.z(), g.plane.normal.x(),
-                    g.plane.normal.y(), g.plane.normal.z(), g.side_radii, g.subdivisions);
+    ground = fmt::format("point {:a} {:a} {:a} normal {:a} {:a} {:a} side {:a} {:a} sub {}",
+                         g.plane.point.x(), g.plane.point.y(), g.plane.point.z(),
+                         g.plane.normal.x(), g.plane.normal.y(), g.plane.normal.z(), g.side_radii,
+                         g.side.value_or(0.f), g.subdivisions);
   }
   // Hex floats: exact, so two settings that differ in the last bit are two keys.
   return fmt::format(

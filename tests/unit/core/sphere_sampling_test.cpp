@@ -1,4 +1,6 @@
 // core/sphere_sampling: the directions the bake integrates with.
+#include "core/sphere_sampling.hpp"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -6,7 +8,6 @@
 #include <set>
 
 #include "core/sh.hpp"
-#include "core/sphere_sampling.hpp"
 
 namespace probeless {
 namespace {

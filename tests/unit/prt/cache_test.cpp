@@ -77,6 +77,9 @@ TEST_F(PrtCacheTest, EveryInputIsPartOfTheKey) {
   s = scene_;
   s.ground->plane.point.z() = -0.01f;
   EXPECT_TRUE(misses(mesh_, s, options()));
+  s = scene_;
+  s.ground->side = 0.5f;
+  EXPECT_TRUE(misses(mesh_, s, options()));
   render::Mesh moved = mesh_;
   moved.positions[3].x() += 1e-6f;
   EXPECT_TRUE(misses(moved, scene_, options()));

@@ -65,6 +65,8 @@ TEST(PrtInput, Plane) {
   EXPECT_THAT(error_of(m, s), HasSubstr("subdivisions must be 1..1024 (got 0)"));
   s.ground = Ground{.side_radii = -1};
   EXPECT_THAT(error_of(m, s), HasSubstr("side_radii must be positive"));
+  s.ground = Ground{.side = 0.f};
+  EXPECT_THAT(error_of(m, s), HasSubstr("side must be positive (got 0)"));
   EXPECT_THROW(make_ground_grid(m, *s.ground), std::invalid_argument);
 }
 

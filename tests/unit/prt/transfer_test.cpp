@@ -176,6 +176,38 @@ TEST(PrtMirror, MirrorSphereCastsALighterShadow) {
   EXPECT_EQ(bake_prt(sphere, mirror).ground_with_object, a.ground_with_object);
 }
 
+TEST(PrtGround, GridLiesOnThePlaneUnderTheObject) {
+  render::Mesh pawn = render::make_pawn(0.2f, 16);
+  for (auto& p : pawn.positions) p += Eigen::Vector3f(1, 2, 0);
+  Ground g{.plane = {.point = Eigen::Vector3f(0, 0, -0.5f), .normal = Eigen::Vector3f(0, 1, 4)},
+           .subdivisions = 10};
+  const Eigen::Vector3f n = g.plane.normal.normalized();
+  const auto [lo, hi] = pawn.bounds();
+  const Eigen::Vector3f centre = (lo + hi) / 2;
+  const float radius = (hi - lo).norm() / 2;
+  for (std::optional<float> side : {std::optional<float>{}, std::optional<float>{0.3f}}) {
+    g.side = side;
+    const render::Mesh grid = make_ground_grid(pawn, g);
+    ASSERT_EQ(grid.vertex_count(), 121u);
+    EXPECT_NO_THROW(grid.validate());
+    for (std::size_t v = 0; v < grid.vertex_count(); ++v) {
+      EXPECT_NEAR(n.dot(grid.positions[v] - g.plane.point), 0.f, 1e-5f);
+      EXPECT_TRUE(grid.normals[v].isApprox(n));
+    }
+    // The middle vertex is where the box's centre drops onto the plane; the corners are the
+    // side apart; the triangles turn counter-clockwise seen from above.
+    const Eigen::Vector3f mid = grid.positions[60];
+    EXPECT_NEAR((mid - centre).cross(n).norm(), 0.f, 1e-5f);
+    const float expected = side ? *side : 8 * radius;
+    EXPECT_NEAR((grid.positions[10] - grid.positions[0]).norm(), expected, 1e-5f);
+    const auto& ix = grid.indices;
+    const auto& p = grid.positions;
+    EXPECT_GT((p[ix[1]] - p[ix[0]]).cross(p[ix[2]] - p[ix[0]]).dot(n), 0.f);
+    // Graded: the steps next to the centre are a third of the uniform step.
+    EXPECT_NEAR((grid.positions[61] - mid).norm(), expected / 10 * (1 + 2 * 0.04f) / 3, 1e-5f);
+  }
+}
+
 TEST(PrtBake, ResultDoesNotDependOnTheThreadCount) {
   const render::Mesh pawn = render::make_pawn(0.2f, 16);
   const Scene scene{.ground = Ground{.subdivisions = 8}};
