@@ -1,0 +1,27 @@
+#pragma once
+// Internal to the renderer: the linked program of each Material::Shading with its uniform
+// locations, and the split-sum table's texture.
+#include "app/render/renderer.hpp"
+
+namespace probeless::render {
+
+struct Renderer::Program {
+  GlProgram program;
+  // -1 where the material has no such uniform (glUniform* ignores location -1).
+  GLint camera_from_object = -1, projection = -1, world_from_object = -1, world_from_camera = -1;
+  GLint base_colour = -1, linear_output = -1, exposure = -1;
+  GLint light_dir = -1, ambient = -1;                           // Lambert
+  GLint environment_scale = -1, max_lod = -1, irradiance = -1;  // image-based
+  GLint roughness = -1, ior = -1, light = -1;                   // RoughMetal, Refraction, PRT
+};
+
+// Texture units of the image-based materials' samplers.
+inline constexpr GLint kEnvironmentUnit = 0, kSplitSumUnit = 1;
+
+// Size of the split-sum table (split_sum.hpp): A and B are smooth, and 32 x 32 with bilinear
+// filtering stays within 1e-3 of the integral away from n.v -> 0.
+inline constexpr int kSplitSumSize = 32;
+// The RG16F table, clamped and bilinear; computed on the CPU (a few milliseconds, once).
+GlTexture make_split_sum_texture();
+
+}  // namespace probeless::render
