@@ -216,16 +216,26 @@ const EnvironmentTexture& Renderer::upload(const std::shared_ptr<const Environme
   return slot->texture;
 }
 
+void Renderer::drop_expired() {
+  std::erase_if(meshes_, [](const auto& entry) { return entry.second->source.expired(); });
+  std::erase_if(environments_, [&](auto& entry) {
+    if (!entry.second->source.expired()) return false;
+    spare_environment_ = std::move(entry.second->texture);
+    return true;
+  });
+}
+
 void Renderer::prepare(const std::shared_ptr<const Environment>& environment) {
   if (!environment) throw std::invalid_argument("renderer: prepare() needs an environment");
   context_->make_current();
+  drop_expired();
   upload(environment);
 }
 
 Cubemap Renderer::read_environment(const std::shared_ptr<const Environment>& environment,
-                                   int level) {
+                                   EnvironmentLayer layer, int level) {
   prepare(environment);
-  return read_environment_level(upload(environment), level);
+  return read_environment_level(upload(environment), layer, level);
 }
 
 void Renderer::finish() {
@@ -244,12 +254,7 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
   const PinholeIntrinsics& k = camera.intrinsics;
   if (k.width != width_ || k.height != height_ || out.output != output_)
     resize(k.width, k.height, out.output);
-  std::erase_if(meshes_, [](const auto& entry) { return entry.second->source.expired(); });
-  std::erase_if(environments_, [&](auto& entry) {
-    if (!entry.second->source.expired()) return false;
-    spare_environment_ = std::move(entry.second->texture);
-    return true;
-  });
+  drop_expired();
 
   // Uploads and prefilter passes first: they use framebuffers and state of their own.
   std::vector<const EnvironmentTexture*> lights(objects.size(), nullptr);
@@ -347,6 +352,8 @@ void Renderer::set_material_uniforms(const Program& prog, const VirtualObject& o
     case Material::Shading::RoughMetal:
       glActiveTexture(GL_TEXTURE0 + kSplitSumUnit);
       glBindTexture(GL_TEXTURE_2D, split_sum_texture());
+      glActiveTexture(GL_TEXTURE0 + kSpecularUnit);
+      glBindTexture(GL_TEXTURE_CUBE_MAP, environment->specular.get());
       glUniform1f(prog.roughness, material.roughness);
       break;
     case Material::Shading::Refraction:
@@ -357,9 +364,9 @@ void Renderer::set_material_uniforms(const Program& prog, const VirtualObject& o
       break;
   }
   glActiveTexture(GL_TEXTURE0 + kEnvironmentUnit);
-  glBindTexture(GL_TEXTURE_CUBE_MAP, environment->texture.get());
+  glBindTexture(GL_TEXTURE_CUBE_MAP, environment->radiance.get());
   glUniform1f(prog.environment_scale, environment->scale);
-  glUniform1f(prog.max_lod, static_cast<float>(environment->levels - 1));
+  glUniform1f(prog.max_lod, static_cast<float>(environment->specular_levels - 1));
   if (prog.irradiance >= 0) {
     const std::array<Eigen::Matrix4f, 3> m = irradiance_matrices(object.environment->sh);
     float packed[48];

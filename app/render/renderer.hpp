@@ -112,8 +112,10 @@ class Renderer {
   // Uploads and prefilters `environment` now instead of at its first render(), so that the
   // cost lands where the caller chooses (right after a light update, say). Does not wait.
   void prepare(const std::shared_ptr<const Environment>& environment);
-  // Level `level` of an environment's texture as radiance (tests, debugging; blocks).
-  Cubemap read_environment(const std::shared_ptr<const Environment>& environment, int level);
+  // A level of an environment's radiance or specular texture as radiance (tests, debugging;
+  // blocks).
+  Cubemap read_environment(const std::shared_ptr<const Environment>& environment,
+                           EnvironmentLayer layer, int level);
   // Waits until the GL work issued so far has finished (timing).
   void finish();
 
@@ -132,6 +134,8 @@ class Renderer {
   void set_material_uniforms(const Program& prog, const VirtualObject& object,
                              const EnvironmentTexture* environment);
   void resize(int width, int height, ColourOutput output);
+  // Forgets meshes and environments whose shared_ptr is gone (keeping one texture's storage).
+  void drop_expired();
   void read_back(RenderTarget& out);
 
   RendererConfig config_;

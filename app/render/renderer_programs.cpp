@@ -78,6 +78,7 @@ std::unique_ptr<Renderer::Program> Renderer::make_program(Material::Shading shad
   glUseProgram(id);
   if (const GLint env = optional("u_environment"); env >= 0) glUniform1i(env, kEnvironmentUnit);
   if (const GLint lut = optional("u_split_sum"); lut >= 0) glUniform1i(lut, kSplitSumUnit);
+  if (const GLint spec = optional("u_specular"); spec >= 0) glUniform1i(spec, kSpecularUnit);
   glUseProgram(0);
   check_gl("renderer: program set-up");
   return p;

@@ -16,7 +16,7 @@ struct Renderer::Program {
 };
 
 // Texture units of the image-based materials' samplers.
-inline constexpr GLint kEnvironmentUnit = 0, kSplitSumUnit = 1;
+inline constexpr GLint kEnvironmentUnit = 0, kSplitSumUnit = 1, kSpecularUnit = 2;
 
 // Size of the split-sum table (split_sum.hpp): A and B are smooth, and 32 x 32 with bilinear
 // filtering stays within 1e-3 of the integral away from n.v -> 0.

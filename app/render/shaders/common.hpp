@@ -70,16 +70,22 @@ vec3 surface_normal() {
 vec3 albedo() { return (u_base_colour * v_colour).rgb; }
 )GLSL";
 
-// The environment's cube texture and what the image-based materials share. Texel values are
-// radiance / u_environment_scale (a power of two that keeps bright lamps inside half float,
-// environment_map.hpp); level k is prefiltered for roughness k / u_max_lod.
+// The environment's cube textures and what the image-based materials share
+// (environment_map.hpp). Texel values are radiance / u_environment_scale (a power of two that
+// keeps bright lamps inside half float); the specular texture's level k is prefiltered for
+// roughness k / u_max_lod.
 inline constexpr std::string_view environment_functions = R"GLSL(
-uniform samplerCube u_environment;
+uniform samplerCube u_environment;  // the radiance as captured (level 0)
+uniform samplerCube u_specular;     // GGX-prefiltered levels
 uniform float u_environment_scale;
 uniform float u_max_lod;
 
-vec3 environment(vec3 direction, float lod) {
-  return textureLod(u_environment, direction, lod).rgb * u_environment_scale;
+vec3 environment(vec3 direction) {
+  return textureLod(u_environment, direction, 0.0).rgb * u_environment_scale;
+}
+
+vec3 specular(vec3 direction, float roughness) {
+  return textureLod(u_specular, direction, roughness * u_max_lod).rgb * u_environment_scale;
 }
 
 // R&H 2001 eq. 12: irradiance E(n) = (n, 1)^T M (n, 1), one matrix per channel, from the

@@ -30,8 +30,8 @@ void main() {
   float cos_i = clamp(dot(n, -v), 0.0, 1.0);
   float f = fresnel_dielectric(cos_i, u_ior);
   vec3 t = refract(v, n, 1.0 / u_ior);
-  vec3 reflected = environment(reflect(v, n), 0.0);
-  vec3 transmitted = environment(t, 0.0) * albedo();
+  vec3 reflected = environment(reflect(v, n));
+  vec3 transmitted = environment(t) * albedo();
   o_colour = encode(f * reflected + (1.0 - f) * transmitted);
   o_depth_mm = v_depth_mm;
 }

@@ -1,10 +1,10 @@
 #pragma once
 // Rough metal with a colour: GGX microfacets (alpha = roughness^2) under the environment by
 // Karis's split sum ("Real Shading in Unreal Engine 4", SIGGRAPH 2013): the prefiltered
-// environment in the reflected direction (the level for the roughness, prefiltered with
-// n = v = r, environment_map.cpp) times the directional albedo F0 A + B from a small table
-// (split_sum.hpp). Single scattering loses energy at high roughness (a white metal under a
-// constant sky would come out darker than the sky), so the multiple-scattering term of
+// environment in the reflected direction (the specular texture's level for the roughness,
+// prefiltered with n = v = r, environment_map.hpp) times the directional albedo F0 A + B from a
+// small table (split_sum.hpp). Single scattering loses energy at high roughness (a white metal
+// under a constant sky would come out darker than the sky), so the multiple-scattering term of
 // Fdez-Aguera ("A Multiple-Scattering Microfacet Model for Real-Time Image-based Lighting",
 // JCGT 2019) adds it back, lit by the irradiance as that paper does.
 // base_colour = F0, the reflectance at normal incidence (gold ~(1.0, 0.78, 0.34)).
@@ -27,7 +27,7 @@ void main() {
   float missing = 1.0 - (ab.x + ab.y);            // E_ms = 1 - E_ss
   vec3 f_avg = f0 + (1.0 - f0) / 21.0;            // cosine-weighted Schlick Fresnel
   vec3 multiple = single * f_avg / (1.0 - missing * f_avg) * missing;
-  vec3 specular = environment(reflect(v, n), roughness * u_max_lod);
+  vec3 specular = specular(reflect(v, n), roughness);
   o_colour = encode(single * specular + multiple * irradiance(n) / kPi);
   o_depth_mm = v_depth_mm;
 }
