@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdio>
+
+#include "app/render/split_sum.hpp"
 
 namespace probeless::render {
 namespace {
@@ -48,9 +51,15 @@ TEST(RenderBench, DISABLED_BenchMaterials640x480) {
       }
 }
 
-// Upload + GGX prefilter per light update, for the keyframe face sizes.
+// Upload + GGX prefilter per light update, for the keyframe face sizes; and the split-sum
+// table, made once.
 TEST(RenderBench, DISABLED_BenchPrefilter) {
-  for (int samples : {1, 32, 64}) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<float> table = make_split_sum_table(32);
+  std::printf(
+      "split-sum table 32x32, 512 samples: %.1f ms (once)\n",
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  for (int samples : {16, 32, 64}) {
     RendererConfig config;
     config.prefilter.samples = samples;
     Renderer renderer(config);

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <numbers>
@@ -287,6 +289,24 @@ TEST(ShRotation, ProjectingTheRotatedMapEqualsRotatingTheProjection) {
   EXPECT_LT(max_difference(projected_then_rotated, rotated_then_projected), 1e-3 * scale);
   // And not trivially: the rotation changed the coefficients a lot.
   EXPECT_GT(max_difference(projected_then_rotated, project_sh(cubemap_of(n, sky))), 0.1 * scale);
+}
+
+// Not a timed test: the cost of one rotation (the PRT material pays it per object and frame).
+//   build/release/tests/test_unit_sh --gtest_also_run_disabled_tests --gtest_filter='*Bench*'
+TEST(ShRotation, DISABLED_Bench) {
+  std::mt19937 rng(1);
+  const ShRgb f = random_sh(rng);
+  constexpr int kCount = 20000;
+  double sink = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < kCount; ++i)
+    sink += rotate_sh(f, Eigen::Matrix3d(Eigen::AngleAxisd(0.001 * i, Eigen::Vector3d::UnitZ())))
+                .c[5]
+                .x();
+  const double us =
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() /
+      kCount;
+  std::printf("sh rotation bench: %.2f us per rotate_sh (5 bands, RGB) (%g)\n", us, sink);
 }
 
 // Ramamoorthi & Hanrahan's Uffizi coefficients (as published in full precision in the Orange
