@@ -1,7 +1,6 @@
-#include "app/render/renderer_programs.hpp"
-
 #include <string>
 
+#include "app/render/renderer_internal.hpp"
 #include "app/render/shaders/common.hpp"
 #include "app/render/shaders/lambert.hpp"
 #include "app/render/shaders/mirror.hpp"

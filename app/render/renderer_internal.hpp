@@ -1,9 +1,26 @@
 #pragma once
-// Internal to the renderer: the linked program of each Material::Shading with its uniform
-// locations, and the split-sum table's texture.
+// Internal to the renderer (renderer.cpp draws, renderer_programs.cpp links the materials'
+// programs, renderer_resources.cpp uploads meshes and environments): what they share.
 #include "app/render/renderer.hpp"
 
 namespace probeless::render {
+
+struct Renderer::GpuMesh {
+  std::weak_ptr<const Mesh> source;  // the entry is dropped when the mesh is gone
+  GlVertexArray vao;
+  GlBuffer vertices, colours, indices, transfer;
+  GLsizei index_count = 0;
+  Eigen::Vector4f base_colour;
+};
+
+struct Renderer::GpuEnvironment {
+  std::weak_ptr<const Environment> source;  // likewise
+  EnvironmentTexture texture;
+};
+
+// Vertex attribute locations of shaders/common.hpp and shaders/prt_diffuse.hpp.
+inline constexpr GLuint kPosition = 0, kNormal = 1, kColour = 2;
+inline constexpr GLuint kTransfer = 3;  // 3..9: six vec4 and a float
 
 struct Renderer::Program {
   GlProgram program;
