@@ -159,7 +159,7 @@ class MaterialFixture : public ::testing::Test {
                            Eigen::Vector3f colour = Eigen::Vector3f::Ones()) {
     Material m;
     m.shading = shading;
-    m.base_colour << colour, 1.f;
+    m.base_colour = Eigen::Vector4f(colour.x(), colour.y(), colour.z(), 1.f);
     return m;
   }
 
