@@ -135,8 +135,11 @@ void Pipeline::capture_rgbd(std::stop_token stop) {
     if (r == ReadResult::Frame) {
       stats_.record("capture_rgbd", ms_since(t0));
       ++rgbd_in_;
-      if (light_ && frame.truth && frame.truth->rig_pose)
-        light_->add_rig_pose(frame.timestamp_ns, *frame.truth->rig_pose);
+      if (light_) {
+        if (frame.truth && frame.truth->rig_pose)
+          light_->add_rig_pose(frame.timestamp_ns, *frame.truth->rig_pose);
+        light_->offer_rgbd(frame);
+      }
       last_rgbd_ns_ = monotonic_now_ns();
       rgbd_slot_.publish(std::move(frame));
       continue;
