@@ -6,6 +6,7 @@
 
 #include <numbers>
 
+#include "app/render/prt/prt.hpp"
 #include "material_reference.hpp"
 
 namespace probeless::render {
@@ -293,6 +294,37 @@ TEST_F(MaterialLightTest, PrtWithBasisTransferShowsTheRadianceFunction) {
       view, img,
       [&](const Hit& h) { return Eigen::Vector3d(env->sh.evaluate(h.normal).cwiseMax(0.0)); }, 0.02,
       "prt_basis");
+}
+
+// The PRT baker's output as it is (app/render/prt/): a lone sphere is convex, so nothing
+// shadows it and its baked transfer is the clamped cosine of all 5 bands (A_4 = -pi/24
+// included), up to the bake's sampling error. Rendered on a rotated sphere it must match
+// albedo x sum_l A_l / pi sum_m L_lm Y_lm(n) evaluated in the world frame: the contract of
+// prt.hpp and of Mesh::prt_transfer meet here.
+TEST_F(MaterialLightTest, PrtWithBakedTransferOfALoneSphere) {
+  const Sun sun;
+  const SphereView view;
+  const auto env = sun_environment(sun);
+  Mesh sphere = make_sphere(static_cast<float>(view.radius), 64, 32);
+  sphere.prt_transfer = prt::bake_prt(sphere, prt::Scene{}).object.coefficients;
+  const Eigen::Vector3f albedo(0.7f, 0.6f, 0.5f);
+  VirtualObject prt = view.object(material(S::PrtDiffuse, albedo), env);
+  prt.mesh = std::make_shared<const Mesh>(std::move(sphere));
+  prt.T_world_object.rotation =
+      Eigen::AngleAxisd(0.8, Eigen::Vector3d(0.1, 0.9, -0.4).normalized());
+  constexpr double kA[5] = {kPi, 2 * kPi / 3, kPi / 4, 0, -kPi / 24};
+  const double peak = albedo.x() * sun.irradiance(sun.direction) / kPi;
+  compare_sphere(
+      view, render(view, {prt}),
+      [&](const Hit& h) {
+        const ShBasis y = sh_basis(h.normal);
+        Eigen::Vector3d e = Eigen::Vector3d::Zero();
+        for (int i = 0; i < kShMaxCount; ++i)
+          e += kA[static_cast<int>(std::sqrt(i))] / kPi * y[static_cast<std::size_t>(i)] *
+               env->sh.c[static_cast<std::size_t>(i)];
+        return Eigen::Vector3d(albedo.cast<double>().cwiseProduct(e).cwiseMax(0.0));
+      },
+      0.01 * peak, "prt_baked_sphere");
 }
 
 }  // namespace
