@@ -201,7 +201,10 @@ void Pipeline::capture_fisheye(std::stop_token stop) {
 
 void Pipeline::process(std::stop_token stop) {
   try {
-    FrameProcessor processor(config_, rig_.calibration, options_.keep_matte || files_ != nullptr);
+    LightSource light;
+    if (light_) light = [this] { return light_->latest_light(); };
+    FrameProcessor processor(config_, rig_.calibration, options_.keep_matte || files_ != nullptr,
+                             std::move(light));
     {
       std::lock_guard lock(state_mutex_);
       occlusion_name_ = processor.occlusion_method();

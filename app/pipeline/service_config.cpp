@@ -15,8 +15,9 @@ namespace probeless {
 namespace {
 
 ObjectConfig parse_object(const TomlReader& r, const toml::table& t) {
-  r.only(t, "[[object]]",
-         {"shape", "model", "position", "yaw_deg", "scale", "color", "material", "roughness", "ior"});
+  r.only(
+      t, "[[object]]",
+      {"shape", "model", "position", "yaw_deg", "scale", "color", "material", "roughness", "ior"});
   ObjectConfig o;
   r.get(t, "shape", o.shape);
   r.get(t, "model", o.model);
@@ -35,7 +36,7 @@ ObjectConfig parse_object(const TomlReader& r, const toml::table& t) {
   r.get(t, "material", o.material);
   r.get(t, "roughness", o.roughness);
   r.get(t, "ior", o.ior);
-  static const std::set<std::string> materials{"lambert", "mirror", "metal",
+  static const std::set<std::string> materials{"lambert", "mirror",  "metal",
                                                "glass",   "diffuse", "prt"};
   if (!materials.contains(o.material))
     r.fail(t.get("material"), "material '" + o.material +

@@ -13,7 +13,7 @@ namespace probeless::render {
 
 namespace {
 
-static_assert(static_cast<int>(Material::Shading::PrtDiffuse) + 1 == Material::kShadingCount,
+static_assert(static_cast<int>(Material::Shading::GroundShadow) + 1 == Material::kShadingCount,
               "kShadingCount counts the Shading enumerators");
 
 bool needs_environment(Material::Shading s) {
@@ -149,7 +149,8 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
                                     "': its material needs an environment");
       lights[i] = &upload(object.environment);
     }
-    if (shading == Material::Shading::PrtDiffuse && object.mesh->prt_transfer.empty())
+    if ((shading == Material::Shading::PrtDiffuse || shading == Material::Shading::GroundShadow) &&
+        object.mesh->prt_transfer.empty())
       throw std::invalid_argument("renderer: mesh '" + name +
                                   "': the PRT material needs Mesh::prt_transfer");
     if (shading == Material::Shading::Refraction && !(object.material.ior > 0))
@@ -179,6 +180,9 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
   const Program* bound = nullptr;
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const VirtualObject& object = objects[i];
+    if (object.material.shading == Material::Shading::GroundShadow &&
+        out.output != ColourOutput::LinearFloat)
+      continue;  // a signed change of the real pixel: only the HDR compositor can apply it
     const GpuMesh& gpu = upload(object.mesh);
     const Program& prog = program(object.material.shading);
     if (&prog != bound) {
@@ -220,10 +224,12 @@ void Renderer::set_material_uniforms(const Program& prog, const VirtualObject& o
   switch (material.shading) {
     case Material::Shading::Lambert:
       return;
-    case Material::Shading::PrtDiffuse: {
+    case Material::Shading::PrtDiffuse:
+    case Material::Shading::GroundShadow: {
       const std::array<float, 84> l =
           prt_light(object.environment->sh, object.T_world_object.rotation.toRotationMatrix());
       glUniform4fv(prog.light, 21, l.data());
+      glUniform1f(prog.depth_offset_mm, material.depth_offset_mm);
       return;
     }
     case Material::Shading::RoughMetal:

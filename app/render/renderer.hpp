@@ -33,8 +33,13 @@ struct Material {
     Refraction,  // glass / water: one refraction at the front face, Fresnel mix with reflection
     ShDiffuse,   // Lambertian, unshadowed: SH irradiance (R&H 2001); base colour = albedo
     PrtDiffuse,  // Lambertian, self-shadowed: per-vertex SH transfer (Mesh::prt_transfer)
+    // Differential rendering's receiver (Debevec 1998; thesis ch. 6): a mesh on the real
+    // ground whose transfer is (with objects - without), so it writes the signed radiance
+    // change albedo * sum_i dT_i L_i with coverage 0 (the HDR compositor's "sum" category).
+    // Only the float target draws it: the display target has no way to say "add".
+    GroundShadow,
   };
-  static constexpr int kShadingCount = 6;
+  static constexpr int kShadingCount = 7;
 
   Shading shading = Shading::Lambert;
   // Linear RGBA, times the mesh's colours: albedo (Lambert, diffuse kinds), reflectance
@@ -43,6 +48,11 @@ struct Material {
   bool double_sided = false;  // draw back faces (open meshes, single quads)
   float roughness = 0.5f;     // RoughMetal: perceptual roughness in [0, 1], GGX alpha = r^2
   float ior = 1.5f;           // Refraction: index of refraction (glass 1.5, water 1.33), > 0
+  // GroundShadow: its depth is written this much nearer the camera than the mesh, so that the
+  // real surface it lies on counts as behind it in the occlusion test despite sensor noise
+  // (50 mm: several sigma of the Kinect-like noise at 2 m, docs/sim.md), while a hand above
+  // the table still hides the shadow.
+  float depth_offset_mm = 0.f;
 };
 
 struct VirtualObject {

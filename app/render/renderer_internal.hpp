@@ -30,6 +30,7 @@ struct Renderer::Program {
   GLint light_dir = -1, ambient = -1;                           // Lambert
   GLint environment_scale = -1, max_lod = -1, irradiance = -1;  // image-based
   GLint roughness = -1, ior = -1, light = -1;                   // RoughMetal, Refraction, PRT
+  GLint depth_offset_mm = -1;                                   // GroundShadow
 };
 
 // Texture units of the image-based materials' samplers.

@@ -44,6 +44,12 @@ std::unique_ptr<Renderer::Program> Renderer::make_program(Material::Shading shad
       body = shaders::prt_diffuse_fragment;
       image_based = false;  // reads the SH only, through its vertex shader
       break;
+    case S::GroundShadow:
+      name = "ground_shadow";
+      vertex = shaders::prt_vertex;
+      body = shaders::ground_shadow_fragment;
+      image_based = false;
+      break;
   }
   std::string fragment(shaders::fragment_prelude);
   if (image_based) fragment += shaders::environment_functions;
@@ -73,6 +79,7 @@ std::unique_ptr<Renderer::Program> Renderer::make_program(Material::Shading shad
   p->roughness = optional("u_roughness");
   p->ior = optional("u_ior");
   p->light = optional("u_light");
+  p->depth_offset_mm = optional("u_depth_offset_mm");
   // Samplers are bound to fixed units once.
   glUseProgram(id);
   if (const GLint env = optional("u_environment"); env >= 0) glUniform1i(env, kEnvironmentUnit);

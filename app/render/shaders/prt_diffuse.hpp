@@ -66,4 +66,20 @@ void main() {
 }
 )GLSL";
 
+// The receiver of differential rendering: the transfer is a difference, so the result is
+// signed (no clamp at 0: a shadow is negative) and covers nothing (alpha 0), and the depth is
+// pulled towards the camera (Material::depth_offset_mm).
+inline constexpr std::string_view ground_shadow_fragment = R"GLSL(
+in vec3 v_transferred;
+uniform float u_depth_offset_mm;
+
+void main() {
+  // The renderer draws it into the float target only; the other branch keeps the uniforms
+  // every program has.
+  vec3 delta = albedo() * v_transferred;
+  o_colour = vec4(u_linear_output ? delta : delta * u_exposure, 0.0);
+  o_depth_mm = v_depth_mm - u_depth_offset_mm;
+}
+)GLSL";
+
 }  // namespace probeless::render::shaders
