@@ -24,10 +24,12 @@ struct BenchArgs {
   std::int64_t frames = 300;
   std::int64_t warmup = 30;
   std::string json_path;
+  std::string config_path;  // objects, materials, [ground], [light] from a service config
 };
 
 void run_bench(const BenchArgs& args) {
-  ServiceConfig config;
+  ServiceConfig config =
+      args.config_path.empty() ? ServiceConfig{} : load_service_config(args.config_path);
   config.source = args.source;
   config.occlusion_method = args.occlusion;
   config.max_frames = args.frames + args.warmup;
@@ -106,6 +108,9 @@ void add_bench_pipeline_command(CLI::App& bench) {
   cmd->add_option("--source", args->source, "Rig spec");
   cmd->add_option("--occlusion", args->occlusion, "Occlusion method");
   cmd->add_option("--json", args->json_path, "Also write the numbers as JSON");
+  cmd->add_option("--config", args->config_path,
+                  "Service config for the scene (objects, [ground], [light]); source and "
+                  "occlusion still come from the options");
   cmd->callback([args] { run_bench(*args); });
 }
 

@@ -19,10 +19,11 @@ namespace {
 constexpr std::size_t kQueue = 8;
 // RGB-D poses kept for interpolation: 2 s at 30 Hz covers any fisheye latency.
 constexpr std::size_t kPoses = 64;
-// Snapshots for the renderer at 10 Hz: a 128 px keyframe is 1.5 MB to download and its SH a
-// fraction of a millisecond at 32 px, and issue #6 asks the object to follow a lamp switch
-// within 0.5 s.
-constexpr TimestampNs kPublishIntervalNs = 100'000'000;
+// Snapshots for the renderer at 4 Hz: each one costs the renderer a prefilter (~11 ms of CPU
+// at 128 px faces) and measured at 10 Hz the render stage's p50 went from 15 to 36 ms under
+// load (`bench pipeline`, docs/performance.md); 250 ms still leaves half of the 0.5 s issue
+// #6 allows the objects to follow a lamp switch.
+constexpr TimestampNs kPublishIntervalNs = 250'000'000;
 // The colour camera's auto exposure moves in steps over a few frames; 4 estimates a second
 // follow it without copying every colour frame.
 constexpr TimestampNs kColourExposureIntervalNs = 250'000'000;
