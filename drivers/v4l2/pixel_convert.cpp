@@ -1,10 +1,11 @@
 #include "drivers/v4l2/pixel_convert.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
-#include <string>
 
 namespace probeless::v4l2 {
 namespace {
@@ -152,9 +153,8 @@ void convert_to_linear_rgb16(std::span<const std::uint8_t> in, const PixelFormat
   if (width <= 0 || height <= 0) throw std::invalid_argument("v4l2 convert: empty frame");
   if (f.bytes_per_line < static_cast<std::size_t>(width) * bytes_per_pixel(f.layout) ||
       in.size() < frame_bytes(f, height)) {
-    throw std::invalid_argument("v4l2 convert: " + std::to_string(in.size()) +
-                                " bytes are short of a " + std::to_string(width) + "x" +
-                                std::to_string(height) + " frame");
+    throw std::invalid_argument(
+        fmt::format("v4l2 convert: {} bytes are short of a {}x{} frame", in.size(), width, height));
   }
   const bool pairs = f.layout == PixelLayout::YUYV || f.layout == PixelLayout::Bayer8 ||
                      f.layout == PixelLayout::Bayer16;

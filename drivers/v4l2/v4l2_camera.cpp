@@ -1,6 +1,7 @@
 #include "drivers/v4l2/v4l2_camera.hpp"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <linux/videodev2.h>
 #include <poll.h>
 #include <spdlog/spdlog.h>
@@ -134,11 +135,10 @@ void V4l2Camera::negotiate_format(const V4l2Options& options) {
       info_.height = options.height;
       return;
     }
-    tried += " " + fourcc_text(fourcc) + "->" + std::to_string(pix.width) + "x" +
-             std::to_string(pix.height);
+    tried += fmt::format(" {}->{}x{}", fourcc_text(fourcc), pix.width, pix.height);
   }
-  throw ConfigError(info_.path + ": no format gives " + std::to_string(options.width) + "x" +
-                    std::to_string(options.height) + " progressive (driver offered:" + tried + ")");
+  throw ConfigError(fmt::format("{}: no format gives {}x{} progressive (driver offered:{})",
+                                info_.path, options.width, options.height, tried));
 }
 
 void V4l2Camera::set_frame_interval(double fps) {
