@@ -110,8 +110,21 @@ TEST_F(Vivid, FrameIntervalIsNegotiatedAndKept) {
   EXPECT_NEAR(source.capture_info()->fps, 15.0, 1e-6);
   const auto frames = read_frames(source, 16, 500ms);
   ASSERT_EQ(frames.size(), 16u);
-  const double mean_s = (frames.back().timestamp_ns - frames.front().timestamp_ns) / 15.0 / 1e9;
-  EXPECT_NEAR(mean_s, 1.0 / 15, 0.2 / 15) << "mean frame interval";
+  // vivid's thread skips the ticks it missed, so on a loaded host (TCG beside a busy
+  // machine) an interval may be several periods, never a fraction of one; its timestamps
+  // jitter by a few ms. At least one interval of one period tells 15 fps from 30 or 7.5.
+  const double period_ms = 1000.0 / 15;
+  double shortest_ms = 1e9;
+  for (std::size_t i = 1; i < frames.size(); ++i) {
+    const double ms = (frames[i].timestamp_ns - frames[i - 1].timestamp_ns) / 1e6;
+    const double periods = std::round(ms / period_ms);
+    EXPECT_GE(periods, 1) << ms << " ms";
+    EXPECT_NEAR(ms, periods * period_ms, period_ms / 4) << "interval " << i;
+    shortest_ms = std::min(shortest_ms, ms);
+  }
+  EXPECT_NEAR(shortest_ms, period_ms, period_ms / 4);
+  std::printf("[ vivid    ] 15 fps: %zu frames over %.0f ms\n", frames.size(),
+              (frames.back().timestamp_ns - frames.front().timestamp_ns) / 1e6);
 }
 
 std::int32_t read_control(const std::string& path, std::uint32_t id) {
@@ -134,21 +147,28 @@ TEST_F(Vivid, GainIsSetReadBackAndStampedOnFrames) {
   want.exposure = {0.005, gain_db_from_linear(2.0)};
   want.level = BracketLevel::High;
   want.cycle_position = 2;
+  // Frames already filled when the controls changed keep the old stamp; within a few frames
+  // (the buffers in flight) the new one must show, and nothing else in between.
+  auto read_until_gain = [&](double gain_db) {
+    for (int i = 0; i < 12; ++i) {
+      const auto f = read_frames(source, 1, 500ms);
+      if (f.empty()) break;
+      if (std::abs(f[0].exposure.exposure.gain_db - gain_db) < 1e-9) return f[0].exposure;
+    }
+    ADD_FAILURE() << "no frame stamped " << gain_db << " dB";
+    return ExposureStamp{};
+  };
   source.set_next_exposure(want);
-  const auto frames = read_frames(source, 3, 500ms);
-  ASSERT_EQ(frames.size(), 3u);
+  const ExposureStamp got = read_until_gain(20 * std::log10(2.0));
   EXPECT_EQ(read_control(info.path, V4L2_CID_GAIN), 200);
   EXPECT_EQ(read_control(info.path, V4L2_CID_AUTOGAIN), 0);
-  const ExposureStamp& got = frames.back().exposure;
-  EXPECT_NEAR(got.exposure.gain_db, 20 * std::log10(2.0), 1e-9);
   EXPECT_DOUBLE_EQ(got.exposure.time_s, 0.005);  // no exposure control: as requested
   EXPECT_EQ(got.level, BracketLevel::High);
   // Past the control's range: clamped to 255, and the stamp says so.
   want.exposure.gain_db = 20;
   source.set_next_exposure(want);
-  const auto more = read_frames(source, 2, 500ms);
-  ASSERT_EQ(more.size(), 2u);
-  EXPECT_NEAR(more.back().exposure.exposure.gain_db, 20 * std::log10(2.55), 1e-9);
+  read_until_gain(20 * std::log10(2.55));
+  EXPECT_EQ(read_control(info.path, V4L2_CID_GAIN), 255);
 }
 
 std::string vivid_device_name() {
