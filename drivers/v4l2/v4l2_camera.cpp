@@ -235,7 +235,7 @@ bool V4l2Camera::next_frame(std::chrono::milliseconds timeout, const Consumer& c
   }
   const bool good = !(b.flags & V4L2_BUF_FLAG_ERROR) && b.index < buffers_.size() &&
                     b.bytesused >= frame_bytes(info_.pixel, info_.height);
-  if (good) consume({buffers_[b.index].data(), b.bytesused}, t);
+  if (good) consume({buffers_[b.index].data(), b.bytesused}, t, b.sequence);
   if (xioctl(fd_.get(), VIDIOC_QBUF, &b) != 0) fail(info_.path, "VIDIOC_QBUF");
   return good;
 }

@@ -68,10 +68,11 @@ class V4l2Camera {
 
   const CaptureInfo& info() const { return info_; }
 
-  // Waits up to `timeout` for a filled buffer; hands its bytes and CLOCK_MONOTONIC timestamp
-  // to `consume`, then gives the buffer back to the driver. False when no frame came (or
+  // Waits up to `timeout` for a filled buffer; hands its bytes, CLOCK_MONOTONIC timestamp
+  // and the driver's frame sequence number (which counts frames it dropped) to `consume`,
+  // then gives the buffer back to the driver. False when no frame came (or
   // the driver flagged it corrupt). Throws DeviceError.
-  using Consumer = std::function<void(std::span<const std::uint8_t>, TimestampNs)>;
+  using Consumer = std::function<void(std::span<const std::uint8_t>, TimestampNs, std::uint32_t)>;
   bool next_frame(std::chrono::milliseconds timeout, const Consumer& consume);
 
   // Sets the controls that exist (clamped to their range and step) and reads them back.

@@ -134,17 +134,18 @@ ReadResult V4l2FisheyeSource::read(FisheyeFrame& frame, std::chrono::millisecond
   try {
     apply_pending_exposure();
     const TimestampNs left = std::max<TimestampNs>(0, deadline - monotonic_now_ns());
-    got = camera_->next_frame(std::chrono::milliseconds(left / 1'000'000),
-                              [&](std::span<const std::uint8_t> bytes, TimestampNs t) {
-                                const CaptureInfo& info = camera_->info();
-                                convert_to_linear_rgb16(bytes, info.pixel, info.width, info.height,
-                                                        frame.raw);
-                                frame.timestamp_ns = t;
-                                frame.bit_depth = output_bit_depth(info.pixel);
-                                frame.black_level = 0;
-                                frame.exposure = stamp_for(t);
-                                frame.truth = nullptr;
-                              });
+    got = camera_->next_frame(
+        std::chrono::milliseconds(left / 1'000'000),
+        [&](std::span<const std::uint8_t> bytes, TimestampNs t, std::uint32_t driver_sequence) {
+          const CaptureInfo& info = camera_->info();
+          convert_to_linear_rgb16(bytes, info.pixel, info.width, info.height, frame.raw);
+          frame.timestamp_ns = t;
+          frame.bit_depth = output_bit_depth(info.pixel);
+          frame.black_level = 0;
+          frame.exposure = stamp_for(t);
+          frame.truth = nullptr;
+          driver_sequence_ = driver_sequence;
+        });
   } catch (const DeviceError& e) {
     lose_device(e.what());
     return ReadResult::Error;

@@ -36,6 +36,9 @@ class V4l2FisheyeSource final : public FisheyeSource {
   // What was negotiated with the device now open (nothing while there is none). For the
   // reader's thread, like read().
   const CaptureInfo* capture_info() const;
+  // The driver's sequence number of the last frame read: it counts the frames the driver
+  // dropped too, so gaps in it are frames lost before they reached us.
+  std::uint32_t driver_sequence() const { return driver_sequence_; }
 
  private:
   struct Applied {
@@ -53,6 +56,7 @@ class V4l2FisheyeSource final : public FisheyeSource {
   TimestampNs next_open_ns_ = 0;
   TimestampNs last_frame_ns_ = 0;  // monotonic, for "stalled"
   std::uint64_t sequence_ = 0;
+  std::uint32_t driver_sequence_ = 0;
   std::deque<Applied> applied_;  // recent control changes, oldest first
 
   mutable std::mutex mutex_;  // guards pending_, requested_ and error_ (set from other threads)
