@@ -2,10 +2,12 @@
 
 #include <stdexcept>
 
+#include "drivers/replay/calibration_file.hpp"
 #include "drivers/replay/playback.hpp"
 #include "drivers/replay/replay_source.hpp"
 #include "drivers/replay/tum_source.hpp"
 #include "drivers/sim/sim_rig.hpp"
+#include "drivers/v4l2/v4l2_fisheye_source.hpp"
 
 namespace probeless {
 namespace {
@@ -27,14 +29,57 @@ DirAndOptions split_dir(std::string_view rest, std::string_view scheme) {
   return out;
 }
 
+// Takes `calibration=FILE` out of a fisheye spec's options (it is the rig's, not the
+// camera's); the rest goes to the camera.
+std::string take_calibration(std::string& fisheye_spec) {
+  const std::size_t q = fisheye_spec.rfind('?');
+  if (q == std::string::npos) return {};
+  std::string kept, calibration;
+  std::size_t pos = q + 1;
+  while (pos <= fisheye_spec.size()) {
+    const std::size_t end = std::min(fisheye_spec.find_first_of(",&", pos), fisheye_spec.size());
+    const std::string item = fisheye_spec.substr(pos, end - pos);
+    if (item.starts_with("calibration=")) {
+      calibration = item.substr(12);
+    } else if (!item.empty()) {
+      kept += (kept.empty() ? "" : "&") + item;
+    }
+    pos = end + 1;
+  }
+  fisheye_spec = fisheye_spec.substr(0, q) + (kept.empty() ? "" : "?" + kept);
+  return calibration;
+}
+
+// RGBD_SPEC+FISHEYE_SPEC: the RGB-D stream (and calibration) of one rig with another fisheye.
+Rig open_combined_rig(std::string_view rgbd_spec, std::string fisheye_spec) {
+  const std::string calibration = take_calibration(fisheye_spec);
+  Rig rig = open_rig(rgbd_spec);
+  rig.fisheye = open_fisheye_source(fisheye_spec);
+  if (!calibration.empty()) rig.calibration = replay::load_rig_calibration(calibration);
+  return rig;
+}
+
 }  // namespace
 
 std::string rig_spec_help() {
   return "sim, sim:<options>, replay:DIR[?realtime=0,loop=1,rebase=1], "
-         "tum:DIR[?realtime=0,loop=1,calibration=FILE]";
+         "tum:DIR[?realtime=0,loop=1,calibration=FILE], "
+         "v4l2:DEVICE[?size=WxH&fps=N&calibration=FILE...], RGBD_SPEC+v4l2:DEVICE[?...]";
+}
+
+std::unique_ptr<FisheyeSource> open_fisheye_source(std::string_view spec) {
+  if (spec.starts_with("v4l2:")) {
+    return std::make_unique<v4l2::V4l2FisheyeSource>(v4l2::parse_v4l2_options(spec.substr(5)));
+  }
+  throw std::invalid_argument("unknown fisheye source '" + std::string(spec) +
+                              "'; valid: v4l2:DEVICE[?options]");
 }
 
 Rig open_rig(std::string_view spec) {
+  // A '+' joins an RGB-D rig and a fisheye; none of the schemes' own options uses one.
+  if (const std::size_t plus = spec.find('+'); plus != std::string_view::npos) {
+    return open_combined_rig(spec.substr(0, plus), std::string(spec.substr(plus + 1)));
+  }
   const std::size_t colon = spec.find(':');
   const std::string_view scheme = spec.substr(0, colon);
   const std::string_view rest =
@@ -58,8 +103,11 @@ Rig open_rig(std::string_view spec) {
     }
     return replay::open_tum_rig(d.dir, options, calibration);
   }
-  throw std::invalid_argument("unknown source '" + std::string(spec) + "'; valid: " +
-                              rig_spec_help());
+  // A V4L2 camera is a fisheye only: until an RGB-D driver exists the RGB-D stream is the
+  // synthetic rig's (docs/drivers.md "Spec").
+  if (scheme == "v4l2") return open_combined_rig("sim", std::string(spec));
+  throw std::invalid_argument("unknown source '" + std::string(spec) +
+                              "'; valid: " + rig_spec_help());
 }
 
 }  // namespace probeless

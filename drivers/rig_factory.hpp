@@ -6,6 +6,11 @@
 //   tum:DIR[?options]              a TUM RGB-D sequence (drivers/replay/tum_source.hpp)
 // Replay and TUM options, ',' or '&' separated: realtime=0|1 (default 1), loop=0|1 (0),
 // rebase=0|1 (0); TUM also calibration=FILE.
+//   v4l2:DEVICE[?options]          the synthetic rig's RGB-D with a V4L2 fisheye
+//   RGBD_SPEC+v4l2:DEVICE[?opts]   any of the above's RGB-D with a V4L2 fisheye
+// V4L2 options: drivers/v4l2/v4l2_options.hpp, plus calibration=FILE (the rig's calibration
+// TOML, replacing the RGB-D rig's; docs/drivers.md).
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -16,6 +21,10 @@ namespace probeless {
 // Throws std::invalid_argument for an unknown scheme or option (the message lists the valid
 // ones), ParseError / ImageFileError for a malformed recording or sequence.
 Rig open_rig(std::string_view spec);
+
+// A fisheye alone: "v4l2:DEVICE[?options]". Throws std::invalid_argument for an unknown
+// scheme or option, v4l2::ConfigError when the device cannot give the configured format.
+std::unique_ptr<FisheyeSource> open_fisheye_source(std::string_view spec);
 
 // "sim, sim:<options>, replay:DIR[?options], tum:DIR[?options]" for help texts.
 std::string rig_spec_help();

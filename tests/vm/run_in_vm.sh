@@ -1,0 +1,114 @@
+#!/usr/bin/env bash
+# Runs a command inside a QEMU VM booted from Debian's own kernel (linux-image-amd64), so
+# driver tests meet real kernel drivers (vivid, ...) rather than fakes (issue #7,
+# docs/drivers.md "The VM harness"). No disk image: a busybox-static initramfs built here
+# loads the virtio/9p modules, mounts the host's / read-only over 9p, and chroots into it, so
+# the command and its shared libraries are the host's own files. The command's exit status
+# comes back as a marker line on the serial console.
+#
+# Usage: run_in_vm.sh [-t TIMEOUT_S] [-m MEM] [-w DIR] -- COMMAND [ARGS...]
+#   -w DIR   working directory of the command inside the guest (default: the current one)
+# Exits with the command's status, 77 when the VM cannot run here (the reason on stdout),
+# 124 when the VM timed out. PROBELESS_VM_KERNEL picks another /boot/vmlinuz-*.
+set -euo pipefail
+
+timeout_s=300 mem=768M workdir=$PWD
+while getopts "t:m:w:" opt; do
+  case $opt in
+    t) timeout_s=$OPTARG ;; m) mem=$OPTARG ;; w) workdir=$OPTARG ;;
+    *) echo "usage: $0 [-t S] [-m MEM] [-w DIR] -- COMMAND..." >&2; exit 2 ;;
+  esac
+done
+shift $((OPTIND - 1))
+[[ ${1:-} == -- ]] && shift
+(($# > 0)) || { echo "usage: $0 [-t S] [-m MEM] [-w DIR] -- COMMAND..." >&2; exit 2; }
+
+skip() { echo "SKIP: $*"; exit 77; }
+qemu=$(command -v qemu-system-x86_64) || skip "qemu-system-x86_64 is not installed (scripts/setup.sh)"
+busybox=/bin/busybox
+[[ -x $busybox ]] && file -L "$busybox" 2>/dev/null | grep -q static ||
+  busybox=$(command -v busybox.static 2>/dev/null || true)
+[[ -n $busybox && -x $busybox ]] || skip "busybox-static is not installed (scripts/setup.sh)"
+kernel=${PROBELESS_VM_KERNEL:-$(ls -1 /boot/vmlinuz-* 2>/dev/null | sort -V | tail -1)}
+[[ -n $kernel && -r $kernel ]] || skip "no readable /boot/vmlinuz-* (linux-image-amd64)"
+kver=${kernel#/boot/vmlinuz-}
+moddir=/lib/modules/$kver
+[[ -r $moddir/modules.dep ]] || skip "no $moddir/modules.dep for kernel $kver"
+[[ $(id -u) == 0 ]] || skip "needs root (the guest chroots into the host's files as root)"
+
+scratch=$(mktemp -d /tmp/v4l2-vm.XXXXXX)
+trap 'rm -rf "$scratch"' EXIT
+root=$scratch/initramfs
+mkdir -p "$root"/{bin,dev,proc,sys,host,lib/modules}
+cp "$busybox" "$root/bin/busybox"
+
+# The modules that reach the 9p root, in load order: each one's dependencies (modules.dep
+# lists them all, deepest last) before it. Everything else is loaded from the host's
+# /lib/modules once the guest is inside the chroot.
+declare -A seen=()
+order=()
+add_module() {
+  local line deps path
+  line=$(grep -E "/$1\.ko(\.[a-z]+)?:" "$moddir/modules.dep" | head -1) ||
+    skip "module $1 is not in $moddir/modules.dep"
+  path=${line%%:*}
+  read -ra deps <<<"${line#*:}"
+  for ((i = ${#deps[@]} - 1; i >= 0; i--)); do
+    [[ -n ${seen[${deps[i]}]:-} ]] || { seen[${deps[i]}]=1; order+=("${deps[i]}"); }
+  done
+  [[ -n ${seen[$path]:-} ]] || { seen[$path]=1; order+=("$path"); }
+}
+for m in virtio_pci 9pnet_virtio 9p; do add_module "$m"; done
+for path in "${order[@]}"; do
+  case $path in
+    *.ko) cp "$moddir/$path" "$root/lib/modules/" ;;
+    *.ko.xz) xz -dc "$moddir/$path" >"$root/lib/modules/$(basename "${path%.xz}")" ;;
+    *) skip "cannot unpack module $path" ;;
+  esac
+  echo "$(basename "${path%.xz}")" >>"$root/modules"
+done
+
+printf '%q ' "$@" >"$root/command"
+printf '%s' "$workdir" >"$root/workdir"
+cat >"$root/init" <<'EOF'
+#!/bin/busybox sh
+/bin/busybox --install -s /bin
+mount -t proc proc /proc
+mount -t sysfs sys /sys
+mount -t devtmpfs dev /dev
+for m in $(cat /modules); do insmod /lib/modules/$m || echo "VM: insmod $m failed"; done
+if ! mount -t 9p -o trans=virtio,version=9p2000.L,ro,msize=512000,cache=loose host /host; then
+  echo "PROBELESS_VM_EXIT=setup"; poweroff -f
+fi
+mount -t proc proc /host/proc
+mount -t sysfs sys /host/sys
+mount -t devtmpfs dev /host/dev
+mount -t tmpfs tmp /host/tmp
+mount -t tmpfs run /host/run
+cmd=$(cat /command)
+chroot /host /bin/sh -c "cd '$(cat /workdir)' && exec $cmd"
+echo "PROBELESS_VM_EXIT=$?"
+poweroff -f
+EOF
+chmod +x "$root/init"
+(cd "$root" && find . | cpio -o -H newc --quiet | gzip -1) >"$scratch/initramfs.cpio.gz"
+
+log=$scratch/console.log
+start=$(date +%s)
+set +e
+# TCG on purpose: CI machines have no /dev/kvm, and the test must mean the same everywhere.
+# Two vCPUs as the host has; a quiet console keeps the boot to a few seconds.
+timeout --foreground "$timeout_s" "$qemu" -accel tcg -cpu max -smp 2 -m "$mem" -nodefaults \
+  -display none -no-reboot -serial stdio -monitor none \
+  -kernel "$kernel" -initrd "$scratch/initramfs.cpio.gz" \
+  -append "console=ttyS0 ${PROBELESS_VM_APPEND:-quiet loglevel=3} panic=-1 rdinit=/init" \
+  -virtfs local,path=/,mount_tag=host,security_model=none,readonly=on,multidevs=remap \
+  </dev/null | tee "$log"
+qemu_status=${PIPESTATUS[0]}
+set -e
+echo "VM: $(($(date +%s) - start)) s (kernel $kver, TCG)"
+((qemu_status == 124)) && { echo "FAIL: the VM did not finish within ${timeout_s} s"; exit 124; }
+status=$(sed -n 's/.*PROBELESS_VM_EXIT=\([0-9a-z]*\).*/\1/p' "$log" | tail -1 | tr -d '\r')
+[[ -n $status ]] || { echo "FAIL: the VM stopped without reporting (qemu status $qemu_status)"; exit 1; }
+[[ $status == setup ]] && { echo "FAIL: the guest could not mount the host over 9p"; exit 1; }
+exit "$status"
