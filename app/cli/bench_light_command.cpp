@@ -1,5 +1,6 @@
-// probeless bench light: per fisheye frame, the time of HDR conversion + keyframe update +
-// push-pull + SH (LightEstimator), waiting for the queue after each stage
+// probeless bench light: per fisheye frame, the time of upload + keyframe update (with the HDR
+// conversion of the samples it reads) + push-pull + SH (LightEstimator), waiting for the queue
+// after each stage
 // (docs/light-capture.md, docs/performance.md "Light capture: bench light").
 #include <fmt/format.h>
 
@@ -62,7 +63,7 @@ void run(const Options& o) {
                              s.p50_ms, s.p99_ms, cpu.p50_ms);
   };
   line("total", total, total_cpu);
-  for (const std::string stage : {"upload", "convert", "update", "push_pull", "sh"}) {
+  for (const std::string stage : {"upload", "update", "push_pull", "sh"}) {
     const TimingSummary s = timed(stage.c_str());
     const TimingSummary cpu = timed(("cpu:" + stage).c_str());
     stages[stage] = {{"p50_ms", s.p50_ms}, {"p99_ms", s.p99_ms}, {"cpu_p50_ms", cpu.p50_ms}};

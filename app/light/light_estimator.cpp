@@ -40,13 +40,13 @@ LightEstimator::LightEstimator(ComputeContext& ctx, const KannalaBrandtParams& f
       fisheye_(fisheye),
       T_rig_fisheye_(T_rig_fisheye),
       config_(config),
-      hdr_(ctx, with_circle(config.hdr, fisheye)),
       keyframes_(ctx, config.keyframes),
-      update_(ctx, config.update),
+      update_(ctx, config.update, with_circle(config.hdr, fisheye)),
       push_pull_(ctx),
       downsample_(ctx),
       projector_(config.sh_face_size) {
   stats_.keep_all(true);
+  if (config_.room) envmap::validate(*config_.room);
 }
 
 const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
@@ -68,19 +68,22 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
 
   raw_.upload(ctx_.queue(), frame.raw, false);
   lap("upload");
-  hdr_.convert(raw_, frame.bit_depth, frame.black_level, frame.exposure.exposure, converted_);
-  lap("convert");
 
-  // Rotation only: the environment is taken as distant, so where the fisheye is inside the
-  // keyframe's neighbourhood does not move the texels (docs/light-capture.md "Limits").
+  // Without a room box the environment is taken as distant, so where the fisheye is inside
+  // the keyframe's neighbourhood does not move the texels; with one, texels are points on its
+  // walls seen from the keyframe's position (docs/light-capture.md "Parallax").
   const Pose T_world_fisheye = T_world_rig * T_rig_fisheye_;
   envmap::Keyframe& keyframe = keyframes_.for_capture(T_world_fisheye.translation);
   envmap::FisheyeView view;
   view.camera = fisheye_;
   view.R_camera_world = T_world_fisheye.rotation.toRotationMatrix().transpose();
+  view.room = config_.room;
+  view.position = T_world_fisheye.translation;
+  view.keyframe_position = keyframe.position;
   const bool bracketing = frame.exposure.level != BracketLevel::Fixed;
   const bool publish = !bracketing || frame.exposure.cycle_position == 3;
-  update_.update(converted_, view, publish, keyframe.texels, keyframe.pending);
+  update_.update_raw(raw_, frame.bit_depth, frame.black_level, frame.exposure.exposure, view,
+                     publish, keyframe.texels, keyframe.pending);
   ++keyframe.updates;
   lap("update");
 

@@ -1,9 +1,10 @@
 #pragma once
-// The light model, per fisheye frame (thesis ch. 5-6; docs/light-capture.md): HDR conversion
-// of the raw frame, the keyframe for the fisheye's position (KeyframeSet), the texel update
-// through the camera model and the rig rotation, push-pull of unobserved texels, and the SH
-// of the updated keyframe. Keeps per-stage timings.
+// The light model, per fisheye frame (thesis ch. 5-6; docs/light-capture.md): the keyframe
+// for the fisheye's position (KeyframeSet), the texel update through the camera model and the
+// rig pose (converting only the raw pixels it reads), push-pull of unobserved texels, and the
+// SH of the updated keyframe. Keeps per-stage timings.
 #include <memory>
+#include <optional>
 
 #include "app/light/sh_projector.hpp"
 #include "app/pipeline/stage_stats.hpp"
@@ -21,8 +22,11 @@ namespace probeless::light {
 struct LightEstimatorConfig {
   envmap::KeyframeConfig keyframes;
   envmap::UpdateParams update;
-  // Its image circle, when left at radius 0, is the fisheye model's (max_theta).
+  // The conversion of the raw samples; its image circle, when left at radius 0, is the fisheye
+  // model's (max_theta).
   HdrConversionParams hdr;
+  // Parallax with a room proxy (docs/light-capture.md "Parallax"); none: distant light.
+  std::optional<envmap::RoomBox> room;
   int sh_face_size = 32;  // the keyframe is box-averaged to this before the SH projection
   // Wait for the queue after each stage so that stats() holds each stage's time (what
   // `bench light` reports); false: one wait, at the SH download.
@@ -45,24 +49,21 @@ class LightEstimator {
   const envmap::KeyframeSet& keyframes() const { return keyframes_; }
   // Host copy of a keyframe's texels (blocking).
   envmap::ImageRGBAF download(const envmap::Keyframe& keyframe);
-  // Stages: upload, convert, update, push_pull, sh; and total. Each also as "cpu:NAME": the
-  // process's CPU time (all threads) over the stage.
+  // Stages: upload, update (conversion included), push_pull, sh; and total. Each also as
+  // "cpu:NAME": the process's CPU time (all threads) over the stage.
   StageStats& stats() { return stats_; }
-  const DeviceImage<float, 4>& converted() const { return converted_; }
 
  private:
   ComputeContext& ctx_;
   KannalaBrandtParams fisheye_;
   Pose T_rig_fisheye_;
   LightEstimatorConfig config_;
-  HdrConversion hdr_;
   envmap::KeyframeSet keyframes_;
   envmap::EnvmapUpdate update_;
   envmap::PushPull push_pull_;
   envmap::EnvmapDownsample downsample_;
   ShProjector projector_;
   DeviceImage<std::uint16_t, 3> raw_;
-  DeviceImage<float, 4> converted_;
   DeviceImage<float, 4> small_;
   envmap::ImageRGBAF small_host_;
   ShRgb sh_;

@@ -1,5 +1,8 @@
 #include "kernels/envmap/envmap_types.hpp"
 
+#include <cmath>
+#include <stdexcept>
+
 namespace probeless::envmap {
 
 Cubemap to_cubemap(const ImageRGBAF& texels) {
@@ -32,6 +35,46 @@ Eigen::Vector3f cube_face_direction(int face, float u, float v) {
     default:
       return {-sc, -tc, -1.0F};
   }
+}
+
+void validate(const RoomBox& room) {
+  if (!(room.lo.allFinite() && room.hi.allFinite() && (room.lo.array() < room.hi.array()).all()))
+    throw std::invalid_argument("room box: lo must be below hi in x, y and z (finite metres)");
+}
+
+bool inside(const RoomBox& room, const Eigen::Vector3d& p) {
+  return (p.array() > room.lo.array()).all() && (p.array() < room.hi.array()).all();
+}
+
+ParallaxConstants parallax_constants(const FisheyeView& view) {
+  ParallaxConstants c;
+  if (!view.room || !inside(*view.room, view.keyframe_position)) return c;
+  c.enabled = true;
+  c.lo = (view.room->lo - view.keyframe_position).cast<float>();
+  c.hi = (view.room->hi - view.keyframe_position).cast<float>();
+  c.offset = (view.keyframe_position - view.position).cast<float>();
+  return c;
+}
+
+float box_exit(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Vector3f& d) {
+  float t[3];
+  for (int i = 0; i < 3; ++i) {
+    const float a = lo[i] / d[i];  // separate statements, as the kernel's vector operations
+    const float b = hi[i] / d[i];
+    t[i] = std::fmax(a, b);
+  }
+  return std::fmin(t[0], std::fmin(t[1], t[2]));
+}
+
+Eigen::Vector3f parallax_direction(const ParallaxConstants& p, const Eigen::Vector3f& d) {
+  if (!p.enabled) return d;
+  const float t = box_exit(p.lo, p.hi, d);
+  Eigen::Vector3f w;
+  for (int i = 0; i < 3; ++i) {
+    const float td = t * d[i];  // no fused multiply-add: the kernel's contraction is off
+    w[i] = p.offset[i] + td;
+  }
+  return w;
 }
 
 }  // namespace probeless::envmap

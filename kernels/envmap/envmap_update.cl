@@ -1,8 +1,14 @@
 // Environment-map keyframe update (thesis ch. 6; docs/light-capture.md). One work-item per
-// cube texel (x, face * n + y): the texel's world direction, rotated into the fisheye's frame
-// (rotation only: distant light), projected through the Kannala-Brandt model, bilinearly
-// sampled from the HDR-converted image (rgb = radiance, a = quality, 0 = never use), then
-// merged by the selected rule. envmap_update_reference.cpp mirrors every step in float.
+// cube texel (x, face * n + y): the texel's world direction (with a room box: the direction
+// from the fisheye's centre to where the texel's ray from the keyframe's position leaves the
+// box), rotated into the fisheye's frame, projected through the Kannala-Brandt model,
+// bilinearly sampled, then merged by the selected rule. Two entry points differ only in what
+// they sample: envmap_update_raw converts the four raw pixels it reads with the HDR
+// conversion's own per-pixel function (convert_one; the program is hdr_conversion.cl followed
+// by this file, whose FP_CONTRACT OFF then covers both), so a frame is never converted whole
+// (98k texels read ~400k of a 1024 px frame's 1M pixels, and nothing is written back);
+// envmap_update samples an already converted image. envmap_update_reference.cpp mirrors
+// every step in float.
 #define RULE_KALMAN 0
 #define RULE_BEST_SCORE 1
 
@@ -61,18 +67,23 @@ bool project_kb(float3 p, float4 f, float4 k, float max_theta, float2* px) {
   return true;
 }
 
-// Bilinear sample at pixel centres on integers; false unless all four neighbours are inside
-// the image and usable (quality > 0): a saturated or black pixel must not leak into a texel.
-bool sample_bilinear(__global const float4* image, int width, int height, float2 px, float4* out) {
+// Bilinear footprint at pixel centres on integers: the top-left pixel's index and the
+// weights; false unless all four neighbours are inside the image.
+bool footprint(int width, int height, float2 px, int* i, float2* w) {
   const float fx0 = floor(px.x), fy0 = floor(px.y);
   const int x0 = (int)fx0, y0 = (int)fy0;
   if (!(fx0 >= 0.0f && fy0 >= 0.0f && x0 + 1 < width && y0 + 1 < height)) return false;
-  const float ax = px.x - fx0, ay = px.y - fy0;
-  const int i = y0 * width + x0;
-  const float4 a = image[i], b = image[i + 1], c = image[i + width], d = image[i + width + 1];
+  *w = (float2)(px.x - fx0, px.y - fy0);
+  *i = y0 * width + x0;
+  return true;
+}
+
+// False unless all four samples are usable (quality > 0): a saturated, black or
+// out-of-circle pixel must not leak into a texel.
+bool blend(float4 a, float4 b, float4 c, float4 d, float2 w, float4* out) {
   if (!(a.w > 0.0f && b.w > 0.0f && c.w > 0.0f && d.w > 0.0f)) return false;
-  const float4 top = a + ax * (b - a), bottom = c + ax * (d - c);
-  *out = top + ay * (bottom - top);
+  const float4 top = a + w.x * (b - a), bottom = c + w.x * (d - c);
+  *out = top + w.y * (bottom - top);
   return true;
 }
 
@@ -80,23 +91,31 @@ float luminance(float4 v) {
   return 0.2126f * v.x + 0.7152f * v.y + 0.0722f * v.z;
 }
 
-__kernel void envmap_update(__global float4* texels, __global float4* pending,
-                            __global const float4* image, int width, int height, int n, float4 r0,
-                            float4 r1, float4 r2, float4 focal_centre, float4 k, float max_theta,
-                            int rule, int publish, float measurement_var, float process_var,
-                            float change_sigma2) {
-  const int x = get_global_id(0), row = get_global_id(1);
-  if (x >= n || row >= 6 * n) return;
+// Where texel i's fisheye sample lands: its direction (box-projected when parallax is on),
+// rotated into the camera and projected. false: the fisheye does not see it.
+bool texel_pixel(int n, int row, int x, float4 r0, float4 r1, float4 r2, float4 focal_centre,
+                 float4 k, float max_theta, int parallax, float4 box_lo, float4 box_hi,
+                 float4 offset, float2* px) {
   const int face = row / n, y = row - face * n;
   const float inv_n = 1.0f / (float)n;
   const float3 d = cube_direction(face, ((float)x + 0.5f) * inv_n, ((float)y + 0.5f) * inv_n);
-  const float3 c = (float3)(dot(r0.xyz, d), dot(r1.xyz, d), dot(r2.xyz, d));
-  float2 px;
-  float4 z = (float4)(0.0f);
-  const bool ok = project_kb(c, focal_centre, k, max_theta, &px) &&
-                  sample_bilinear(image, width, height, px, &z);
-  const int i = row * n + x;
+  float3 w = d;
+  if (parallax) {
+    // Exit of the ray k + t d from the box (box_lo, box_hi relative to k; k inside, so every
+    // axis gives t >= 0 or +inf, and the major axis a finite one); then the wall point seen
+    // from the fisheye: (k - c) + t d. envmap_types.cpp's box_exit / parallax_direction.
+    const float3 tl = box_lo.xyz / d, th = box_hi.xyz / d;
+    const float3 tm = fmax(tl, th);
+    const float t = fmin(tm.x, fmin(tm.y, tm.z));
+    w = offset.xyz + t * d;
+  }
+  const float3 c = (float3)(dot(r0.xyz, w), dot(r1.xyz, w), dot(r2.xyz, w));
+  return project_kb(c, focal_centre, k, max_theta, px);
+}
 
+// The update rules on texel i with sample z (ok: there is a usable sample).
+void merge(__global float4* texels, __global float4* pending, int i, bool ok, float4 z, int rule,
+           int publish, float measurement_var, float process_var, float change_sigma2) {
   if (rule == RULE_KALMAN) {
     if (!ok) return;
     float4 t = texels[i];
@@ -125,4 +144,57 @@ __kernel void envmap_update(__global float4* texels, __global float4* pending,
       pending[i] = p;
     }
   }
+}
+
+// From an HDR-converted image (rgb radiance, a quality, 0 = unusable).
+__kernel void envmap_update(__global float4* texels, __global float4* pending,
+                            __global const float4* image, int width, int height, int n, float4 r0,
+                            float4 r1, float4 r2, float4 focal_centre, float4 k, float max_theta,
+                            int parallax, float4 box_lo, float4 box_hi, float4 offset, int rule,
+                            int publish, float measurement_var, float process_var,
+                            float change_sigma2) {
+  const int x = get_global_id(0), row = get_global_id(1);
+  if (x >= n || row >= 6 * n) return;
+  float2 px, w;
+  int i0;
+  float4 z = (float4)(0.0f);
+  const bool ok = texel_pixel(n, row, x, r0, r1, r2, focal_centre, k, max_theta, parallax, box_lo,
+                              box_hi, offset, &px) &&
+                  footprint(width, height, px, &i0, &w) &&
+                  blend(image[i0], image[i0 + 1], image[i0 + width], image[i0 + width + 1], w, &z);
+  merge(texels, pending, row * n + x, ok, z, rule, publish, measurement_var, process_var,
+        change_sigma2);
+}
+
+// From the raw frame (RGB16, linear, not shifted): the four pixels of the footprint converted
+// as hdr_conversion does (same constants from hdr_conversion_constants, same convert_one).
+__kernel void envmap_update_raw(__global float4* texels, __global float4* pending,
+                                __global const ushort* raw, int width, int height, int black_level,
+                                int saturated_signal, int black_margin, float radiance_scale,
+                                float inv_range, int crop, float circle_cx, float circle_cy,
+                                float circle_radius2, int n, float4 r0, float4 r1, float4 r2,
+                                float4 focal_centre, float4 k, float max_theta, int parallax,
+                                float4 box_lo, float4 box_hi, float4 offset, int rule, int publish,
+                                float measurement_var, float process_var, float change_sigma2) {
+  const int x = get_global_id(0), row = get_global_id(1);
+  if (x >= n || row >= 6 * n) return;
+  float2 px, w;
+  int i0;
+  float4 z = (float4)(0.0f);
+  bool ok = texel_pixel(n, row, x, r0, r1, r2, focal_centre, k, max_theta, parallax, box_lo, box_hi,
+                        offset, &px) &&
+            footprint(width, height, px, &i0, &w);
+  if (ok) {
+    const int y0 = i0 / width, x0 = i0 - y0 * width;
+    float4 q[4];
+    for (int j = 0; j < 4; ++j) {
+      const int xi = x0 + (j & 1), yi = y0 + (j >> 1), i = yi * width + xi;
+      q[j] = convert_one((int)raw[3 * i] - black_level, (int)raw[3 * i + 1] - black_level,
+                         (int)raw[3 * i + 2] - black_level, xi, yi, saturated_signal, black_margin,
+                         radiance_scale, inv_range, crop, circle_cx, circle_cy, circle_radius2);
+    }
+    ok = blend(q[0], q[1], q[2], q[3], w, &z);
+  }
+  merge(texels, pending, row * n + x, ok, z, rule, publish, measurement_var, process_var,
+        change_sigma2);
 }
