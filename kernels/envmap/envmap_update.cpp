@@ -1,5 +1,6 @@
 #include "kernels/envmap/envmap_update.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -21,6 +22,21 @@ std::string program_source() {
 
 cl_float4 float4_of(const Eigen::Vector3f& v) {
   return cl_float4{{v.x(), v.y(), v.z(), 0.0F}};
+}
+
+constexpr int kLanes = 8;  // texels per work-item (envmap_update.cl)
+
+// One work-item per 8 texels of a row: 16 x 4 work-items (512 texels) per group, so that a
+// 128 px face's row is one group wide.
+void launch(ComputeContext& ctx, const ::cl::Kernel& kernel, int n) {
+  const std::size_t items = static_cast<std::size_t>((n + kLanes - 1) / kLanes);
+  const std::size_t max = ctx.local_2d()[0] * ctx.local_2d()[1];
+  const std::size_t lx = std::min<std::size_t>({16, items, max});
+  const std::size_t ly = std::max<std::size_t>(1, std::min<std::size_t>(4, max / lx));
+  ctx.queue().enqueueNDRangeKernel(
+      kernel, ::cl::NullRange,
+      ::cl::NDRange(round_up(items, lx), round_up(static_cast<std::size_t>(6 * n), ly)),
+      ::cl::NDRange(lx, ly));
 }
 
 }  // namespace
@@ -86,7 +102,7 @@ void EnvmapUpdate::update(const DeviceImage<float, 4>& image, const FisheyeView&
   converted_.setArg(a++, image.width());
   converted_.setArg(a++, image.height());
   set_view_args(converted_, a, n, view, publish);
-  ctx_.run_2d(converted_, n, 6 * n);
+  launch(ctx_, converted_, n);
 }
 
 void EnvmapUpdate::update_raw(const DeviceImage<std::uint16_t, 3>& raw, int bit_depth,
@@ -113,7 +129,7 @@ void EnvmapUpdate::update_raw(const DeviceImage<std::uint16_t, 3>& raw, int bit_
   raw_.setArg(a++, c.circle_cy);
   raw_.setArg(a++, c.circle_radius2);
   set_view_args(raw_, a, n, view, publish);
-  ctx_.run_2d(raw_, n, 6 * n);
+  launch(ctx_, raw_, n);
 }
 
 }  // namespace probeless::envmap

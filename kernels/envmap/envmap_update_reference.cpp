@@ -47,8 +47,12 @@ std::optional<Eigen::Vector4f> sample_fisheye_reference(const ImageRGBAF& image,
                                                         const FisheyeView& view,
                                                         const Eigen::Vector3f& world_direction) {
   const Eigen::Matrix3f r = view.R_camera_world.cast<float>();
-  const Eigen::Vector3f p(r.row(0).dot(world_direction), r.row(1).dot(world_direction),
-                          r.row(2).dot(world_direction));
+  const auto& w = world_direction;
+  Eigen::Vector3f p;
+  for (int i = 0; i < 3; ++i) {  // the kernel's order, one rounding per operation
+    const float a = r(i, 0) * w.x(), b = r(i, 1) * w.y(), c = r(i, 2) * w.z();
+    p[i] = (a + b) + c;
+  }
   const KannalaBrandtParams& c = view.camera;
   const float rad = std::sqrt(p.x() * p.x() + p.y() * p.y());
   const float theta = polar_angle(rad, p.z());
