@@ -24,15 +24,15 @@ cl_float4 float4_of(const Eigen::Vector3f& v) {
   return cl_float4{{v.x(), v.y(), v.z(), 0.0F}};
 }
 
-constexpr int kLanes = 8;  // texels per work-item (envmap_update.cl)
+constexpr int kLanes = 16;  // texels per work-item (envmap_update.cl)
 
-// One work-item per 8 texels of a row: 16 x 4 work-items (512 texels) per group, so that a
-// 128 px face's row is one group wide.
+// One work-item per 16 texels of a row: 8 x 8 work-items (a 128 x 8 block of a 128 px face)
+// per group.
 void launch(ComputeContext& ctx, const ::cl::Kernel& kernel, int n) {
   const std::size_t items = static_cast<std::size_t>((n + kLanes - 1) / kLanes);
   const std::size_t max = ctx.local_2d()[0] * ctx.local_2d()[1];
-  const std::size_t lx = std::min<std::size_t>({16, items, max});
-  const std::size_t ly = std::max<std::size_t>(1, std::min<std::size_t>(4, max / lx));
+  const std::size_t lx = std::min<std::size_t>({8, items, max});
+  const std::size_t ly = std::max<std::size_t>(1, std::min<std::size_t>(8, max / lx));
   ctx.queue().enqueueNDRangeKernel(
       kernel, ::cl::NullRange,
       ::cl::NDRange(round_up(items, lx), round_up(static_cast<std::size_t>(6 * n), ly)),

@@ -123,5 +123,25 @@ TEST(EnvmapBench, DISABLED_UpdatePieces1024) {
   run_interleaved(v, 100);
 }
 
+// Push-pull alone, on what an upward fisheye leaves: five faces half observed, the floor
+// (-z) empty, so that the pass across face edges has one face to fill.
+TEST(EnvmapBench, DISABLED_PushPull128) {
+  auto& ctx = probeless::testing::cl_context();
+  const int n = 128;
+  std::mt19937 rng(4);
+  ImageRGBAF host = random_texels(rng, n);
+  for (int y = 5 * n; y < 6 * n; ++y)
+    for (int x = 0; x < n; ++x) host.at(x, y, 3) = 0.0F;
+  DeviceImage<float, 4> texels(ctx, host);
+  PushPull push_pull(ctx);
+  std::vector<Variant> v;
+  v.push_back({"push-pull, floor empty", [&] {
+                 texels.upload(ctx.queue(), host, false);
+                 push_pull.fill(texels);
+               }});
+  v.push_back({"upload texels alone", [&] { texels.upload(ctx.queue(), host, false); }});
+  run_interleaved(v, 200);
+}
+
 }  // namespace
 }  // namespace probeless::envmap
