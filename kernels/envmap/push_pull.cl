@@ -16,6 +16,18 @@ int level_size(int n, int k) {
   return m;
 }
 
+// A fine texel after the push from its parent, as selects (the keyframe's alpha pattern made
+// the branches mispredict): see pull_push_face.
+float4 push_texel(float4 t, float4 parent, int is_texels) {
+  // Vector masks (isequal / isless on .wwww) so that the compiler blends instead of branching.
+  if (is_texels) {
+    const float4 filled = select(t, (float4)(parent.xyz, 0.0f), isequal(t.wwww, (float4)(0.0f)));
+    return select(filled, (float4)(t.xyz, 0.0f), isless(t.wwww, (float4)(0.0f)));
+  }
+  const float4 mixed = (float4)(t.w * t.xyz + (1.0f - t.w) * parent.xyz, 1.0f);
+  return select(t, mixed, isless(t.wwww, (float4)(1.0f)));
+}
+
 // Steps a work-item's texel (x, y) of a row-major grid m wide from index i to i + size
 // without a division (dx, dy = size % m, size / m): integer division was the push's hottest
 // instruction on PoCL.
@@ -50,16 +62,25 @@ float pull_push_face(__global float4* texels, int n, __global float4* pyramid, i
     for (int i = lid; i < cs * cs; i += size) {
       float3 sum = (float3)(0.0f);
       float wsum = 0.0f;
-      for (int j = 0; j < 2; ++j) {
-        const int fy = 2 * y + j;
-        if (fy >= fs) break;
-        for (int q = 0; q < 2; ++q) {
-          const int fx = 2 * x + q;
-          if (fx >= fs) break;
-          const float4 t = fine[fy * fs + fx];
-          const float w = level_weight(t, k == 0);
-          sum += w * t.xyz;
-          wsum += w;
+      if (2 * x + 1 < fs && 2 * y + 1 < fs) {  // all four children: no loop, no branch
+        __global const float4* c0 = fine + 2 * y * fs + 2 * x;
+        const float4 a = c0[0], b = c0[1], c = c0[fs], d = c0[fs + 1];
+        const float wa = level_weight(a, k == 0), wb = level_weight(b, k == 0);
+        const float wc = level_weight(c, k == 0), wd = level_weight(d, k == 0);
+        sum = ((wa * a.xyz + wb * b.xyz) + wc * c.xyz) + wd * d.xyz;
+        wsum = ((wa + wb) + wc) + wd;
+      } else {  // the last row or column of an odd-sized level
+        for (int j = 0; j < 2; ++j) {
+          const int fy = 2 * y + j;
+          if (fy >= fs) break;
+          for (int q = 0; q < 2; ++q) {
+            const int fx = 2 * x + q;
+            if (fx >= fs) break;
+            const float4 t = fine[fy * fs + fx];
+            const float w = level_weight(t, k == 0);
+            sum += w * t.xyz;
+            wsum += w;
+          }
         }
       }
       coarse[i] = wsum > 0.0f ? (float4)(sum / wsum, fmin(wsum, 1.0f)) : (float4)(0.0f);
@@ -90,15 +111,7 @@ float pull_push_face(__global float4* texels, int n, __global float4* pyramid, i
           const int fx = 2 * x + q;
           if (fx >= fs) break;
           __global float4* f = fine + fy * fs + fx;
-          const float4 t = *f;
-          if (k == 0) {
-            if (t.w == 0.0f)
-              *f = (float4)(parent.xyz, 0.0f);
-            else if (t.w < 0.0f)
-              *f = (float4)(t.xyz, 0.0f);
-          } else if (t.w < 1.0f) {
-            *f = (float4)(t.w * t.xyz + (1.0f - t.w) * parent.xyz, 1.0f);
-          }
+          *f = push_texel(*f, parent, k == 0);
         }
       }
       NEXT_XY(x, y, cs, dx, dy)
