@@ -203,10 +203,10 @@ INLINE void merge_lanes(__global float4* texels, __global float4* pending, int i
                         int16 ok, float16 zr, float16 zg, float16 zb, float16 zq, int rule,
                         int publish, float measurement_var, float process_var,
                         float change_sigma2) {
+  if (rule == RULE_KALMAN && !any(ok)) return;
   float16 tr, tg, tb, tw;
   load_texels(texels + i, count, &tr, &tg, &tb, &tw);
   if (rule == RULE_KALMAN) {
-    if (!any(ok)) return;
     const float16 s = measurement_var / zq;
     const float16 cvar = tw + process_var;  // predict
     const float16 lx = fmax(luminance_lanes(tr, tg, tb), 1e-30f);
@@ -284,6 +284,12 @@ __kernel void envmap_update(__global float4* texels, __global float4* pending,
   float16 ax, ay;
   int16 ok = footprints(n, row, x0, r0, r1, r2, focal_centre, k, max_theta, parallax, box_lo,
                         box_hi, offset, width, height, &px, &py, &ax, &ay);
+  if (!any(ok)) {  // none of the 16 texels is seen (the floor, below the horizon): no loads
+    const float16 zero = (float16)(0.0f);
+    merge_lanes(texels, pending, row * n + x0, min(LANES, n - x0), ok, zero, zero, zero, zero, rule,
+                publish, measurement_var, process_var, change_sigma2);
+    return;
+  }
   const int16 ia = py * width + px, ib = ia + 1, ic = ia + width, id = ic + 1;
   float16 ra, ga, ba, qa, rb, gb, bb, qb, rc, gc, bc, qc, rd, gd, bd, qd;
   GATHER4_ALL(image, ia, ra, ga, ba, qa)
@@ -323,6 +329,12 @@ __kernel void envmap_update_raw(__global float4* texels, __global float4* pendin
   float16 ax, ay;
   int16 ok = footprints(n, row, x0, r0, r1, r2, focal_centre, k, max_theta, parallax, box_lo,
                         box_hi, offset, width, height, &px, &py, &ax, &ay);
+  if (!any(ok)) {  // none of the 16 texels is seen (the floor, below the horizon): no loads
+    const float16 zero = (float16)(0.0f);
+    merge_lanes(texels, pending, row * n + x0, min(LANES, n - x0), ok, zero, zero, zero, zero, rule,
+                publish, measurement_var, process_var, change_sigma2);
+    return;
+  }
   int16 ra, ga, ba, rb, gb, bb, rc, gc, bc, rd, gd, bd;
   RAW_LANE(0)
   RAW_LANE(1)

@@ -76,6 +76,9 @@ TEST(EnvmapBench, DISABLED_UpdatePieces1024) {
   FisheyeView view;
   view.camera = KannalaBrandtCamera::equidistant(size, 190).params();
   view.R_camera_world = upward_R_camera_world();
+  FisheyeView yawed = view;  // the rig turned: texel rows cross the image's rows
+  yawed.R_camera_world =
+      view.R_camera_world * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   FisheyeView parallax = view;
   parallax.room = RoomBox{{-2.5, -2.5, 0}, {2.5, 2.5, 2.7}};
   parallax.keyframe_position = {0.1, -1.0, 1.2};
@@ -103,6 +106,13 @@ TEST(EnvmapBench, DISABLED_UpdatePieces1024) {
                  const auto wrapped =
                      DeviceImage<std::uint16_t, 3>::wrap_host(ctx.context(), frame);
                  update.update_raw(wrapped, 12, 256, e, view, false, texels, pending);
+                 ctx.queue().finish();
+               }});
+  v.push_back({"write + wrap_host + update_raw, yawed", [&] {
+                 write_frame();
+                 const auto wrapped =
+                     DeviceImage<std::uint16_t, 3>::wrap_host(ctx.context(), frame);
+                 update.update_raw(wrapped, 12, 256, e, yawed, false, texels, pending);
                  ctx.queue().finish();
                }});
   v.push_back({"write + wrap_host + update_raw + parallax", [&] {
