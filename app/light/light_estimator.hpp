@@ -52,6 +52,8 @@ class LightEstimator {
   // Stages: upload, update (conversion included), push_pull, sh; and total. Each also as
   // "cpu:NAME": the process's CPU time (all threads) over the stage.
   StageStats& stats() { return stats_; }
+  // Switches LightEstimatorConfig::time_stages between frames (bench light alternates).
+  void set_time_stages(bool on) { config_.time_stages = on; }
 
  private:
   ComputeContext& ctx_;
