@@ -1,5 +1,6 @@
 #include "kernels/envmap/envmap_types.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -75,6 +76,32 @@ Eigen::Vector3f parallax_direction(const ParallaxConstants& p, const Eigen::Vect
     w[i] = p.offset[i] + td;
   }
   return w;
+}
+
+TexelIndex cube_texel_of(const Eigen::Vector3f& d, int n) {
+  const float ax = std::abs(d.x()), ay = std::abs(d.y()), az = std::abs(d.z());
+  TexelIndex t;
+  float sc, tc, ma;
+  if (ax >= ay && ax >= az) {
+    ma = ax;
+    t.face = d.x() > 0.0F ? 0 : 1;
+    sc = d.x() > 0.0F ? -d.z() : d.z();
+    tc = -d.y();
+  } else if (ay >= az) {
+    ma = ay;
+    t.face = d.y() > 0.0F ? 2 : 3;
+    sc = d.x();
+    tc = d.y() > 0.0F ? d.z() : -d.z();
+  } else {
+    ma = az;
+    t.face = d.z() > 0.0F ? 4 : 5;
+    sc = d.z() > 0.0F ? d.x() : -d.x();
+    tc = -d.y();
+  }
+  const float u = 0.5F * (sc / ma + 1.0F), v = 0.5F * (tc / ma + 1.0F);
+  t.x = std::clamp(static_cast<int>(u * static_cast<float>(n)), 0, n - 1);
+  t.y = std::clamp(static_cast<int>(v * static_cast<float>(n)), 0, n - 1);
+  return t;
 }
 
 }  // namespace probeless::envmap

@@ -1,0 +1,42 @@
+#include "kernels/envmap/keyframe_reprojection_reference.hpp"
+
+#include <stdexcept>
+
+#include "kernels/envmap/keyframe_reprojection.hpp"
+
+namespace probeless::envmap {
+
+ImageRGBAF reproject_keyframe_reference(const ImageRGBAF& texels,
+                                        const Eigen::Vector3d& keyframe_position,
+                                        const std::optional<RoomBox>& room,
+                                        const Eigen::Vector3d& target, int m, int samples) {
+  const int n = face_size_of(texels);
+  if (texels.height() != 6 * n || m < 1 || samples < 1)
+    throw std::invalid_argument("reproject_keyframe_reference: bad sizes");
+  const ParallaxConstants p = reprojection_constants(room, keyframe_position, target);
+  const float inv = 1.0F / static_cast<float>(m * samples);
+  ImageRGBAF out = make_texels(m);
+  for (int row = 0; row < 6 * m; ++row) {
+    const int face = row / m, y = row - face * m;
+    for (int x = 0; x < m; ++x) {
+      float sum[3] = {0, 0, 0};
+      bool all = true;
+      for (int j = 0; j < samples; ++j)
+        for (int i = 0; i < samples; ++i) {
+          const float u = (static_cast<float>(x * samples + i) + 0.5F) * inv;
+          const float v = (static_cast<float>(y * samples + j) + 0.5F) * inv;
+          const Eigen::Vector3f w = parallax_direction(p, cube_face_direction(face, u, v));
+          const TexelIndex t = cube_texel_of(w, n);
+          const float* s = &texels.at(t.x, t.face * n + t.y, 0);
+          for (int c = 0; c < 3; ++c) sum[c] += s[c];
+          all = all && s[3] > 0.0F;
+        }
+      const float count = static_cast<float>(samples * samples);
+      for (int c = 0; c < 3; ++c) out.at(x, row, c) = sum[c] / count;
+      out.at(x, row, 3) = all ? 1.0F : 0.0F;
+    }
+  }
+  return out;
+}
+
+}  // namespace probeless::envmap
