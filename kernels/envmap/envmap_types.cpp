@@ -1,6 +1,5 @@
 #include "kernels/envmap/envmap_types.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -78,9 +77,9 @@ Eigen::Vector3f parallax_direction(const ParallaxConstants& p, const Eigen::Vect
   return w;
 }
 
-TexelIndex cube_texel_of(const Eigen::Vector3f& d, int n) {
+CubeCoord cube_coord_of(const Eigen::Vector3f& d) {
   const float ax = std::abs(d.x()), ay = std::abs(d.y()), az = std::abs(d.z());
-  TexelIndex t;
+  CubeCoord t;
   float sc, tc, ma;
   if (ax >= ay && ax >= az) {
     ma = ax;
@@ -98,9 +97,8 @@ TexelIndex cube_texel_of(const Eigen::Vector3f& d, int n) {
     sc = d.z() > 0.0F ? d.x() : -d.x();
     tc = -d.y();
   }
-  const float u = 0.5F * (sc / ma + 1.0F), v = 0.5F * (tc / ma + 1.0F);
-  t.x = std::clamp(static_cast<int>(u * static_cast<float>(n)), 0, n - 1);
-  t.y = std::clamp(static_cast<int>(v * static_cast<float>(n)), 0, n - 1);
+  t.u = 0.5F * (sc / ma + 1.0F);
+  t.v = 0.5F * (tc / ma + 1.0F);
   return t;
 }
 

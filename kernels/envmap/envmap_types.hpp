@@ -99,12 +99,13 @@ bool inside(const RoomBox& room, const Eigen::Vector3d& p);
 // same operations.
 float box_exit(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Vector3f& d);
 
-// Direction (not normalised) -> the texel of an n-px cube that contains it: face, x, y, as
-// keyframe_reprojection.cl computes it in float (core's cube_texel_from_direction, nearest).
-struct TexelIndex {
-  int face = 0, x = 0, y = 0;
+// Direction (not normalised) -> face and face coordinates u, v in [0, 1], in float as
+// keyframe_reprojection.cl computes them (core's cube_texel_from_direction).
+struct CubeCoord {
+  int face = 0;
+  float u = 0, v = 0;
 };
-TexelIndex cube_texel_of(const Eigen::Vector3f& d, int n);
+CubeCoord cube_coord_of(const Eigen::Vector3f& d);
 
 // The world direction the fisheye must look along to see what texel direction d (not
 // normalised) shows from the keyframe's position: d itself without parallax; else

@@ -1,10 +1,14 @@
 // Reprojection of an environment-map keyframe to another position through the room box
 // (docs/light-capture.md "Parallax"). One work-item per target texel (x, face * m + y),
 // samples x samples sub-texel directions from the target position: each hits the box at a
-// wall point, which the keyframe saw along the direction from its own position; the nearest
-// keyframe texel there is averaged in. A target texel is observed (alpha 1) only when every
-// keyframe texel it drew from is (alpha > 0); filled texels still give their rgb, as the SH
-// needs the whole sphere. keyframe_reprojection_reference.cpp mirrors every step in float.
+// wall point, which the keyframe saw along the direction from its own position; the keyframe
+// is sampled there bilinearly within the face (clamped at its edges) and the samples are
+// averaged. Bilinear rather than nearest: a point nearer the object than the keyframe (the
+// window, 1.9 m from the sim's object and 3.6 m from the keyframe) is magnified, and nearest
+// lookups shifted its structure by up to half a keyframe texel (eval light: 0.079 -> ...).
+// A target texel is observed (alpha 1) only when every keyframe texel it drew from is
+// (alpha > 0); filled texels still give their rgb, as the SH needs the whole sphere.
+// keyframe_reprojection_reference.cpp mirrors every step in float.
 #pragma OPENCL FP_CONTRACT OFF
 
 float3 cube_direction(int face, float u, float v) {
@@ -25,8 +29,8 @@ float3 cube_direction(int face, float u, float v) {
   }
 }
 
-// Direction -> the texel of an n-px cube that contains it (envmap_types.cpp cube_texel_of).
-int cube_texel(float3 d, int n, int* tx, int* ty) {
+// Direction -> face and face coordinates u, v (envmap_types.cpp cube_coord_of).
+int cube_coord(float3 d, float* u, float* v) {
   const float ax = fabs(d.x), ay = fabs(d.y), az = fabs(d.z);
   int face;
   float sc, tc, ma;
@@ -46,9 +50,8 @@ int cube_texel(float3 d, int n, int* tx, int* ty) {
     sc = d.z > 0.0f ? d.x : -d.x;
     tc = -d.y;
   }
-  const float u = 0.5f * (sc / ma + 1.0f), v = 0.5f * (tc / ma + 1.0f);
-  *tx = clamp((int)(u * (float)n), 0, n - 1);
-  *ty = clamp((int)(v * (float)n), 0, n - 1);
+  *u = 0.5f * (sc / ma + 1.0f);
+  *v = 0.5f * (tc / ma + 1.0f);
   return face;
 }
 
@@ -75,11 +78,23 @@ __kernel void reproject_keyframe(__global const float4* texels, int n, __global 
         const float t = fmin(tm.x, fmin(tm.y, tm.z));
         w = offset.xyz + t * d;
       }
-      int tx, ty;
-      const int f = cube_texel(w, n, &tx, &ty);
-      const float4 s = texels[(f * n + ty) * n + tx];
-      sum += s.xyz;
-      all &= s.w > 0.0f ? 1 : 0;
+      float fu, fv;
+      const int f = cube_coord(w, &fu, &fv);
+      // Bilinear at texel centres, the footprint clamped into the face.
+      const float px = fu * (float)n - 0.5f, py = fv * (float)n - 0.5f;
+      const float x0f = floor(px), y0f = floor(py);
+      const float ax = px - x0f, ay = py - y0f;
+      const int x0 = clamp((int)x0f, 0, n - 1), y0 = clamp((int)y0f, 0, n - 1);
+      const int x1 = clamp((int)x0f + 1, 0, n - 1), y1 = clamp((int)y0f + 1, 0, n - 1);
+      __global const float4* face_texels = texels + f * n * n;
+      const float4 a = face_texels[y0 * n + x0], b = face_texels[y0 * n + x1];
+      const float4 c = face_texels[y1 * n + x0], e = face_texels[y1 * n + x1];
+      const float3 top = a.xyz + ax * (b.xyz - a.xyz), bottom = c.xyz + ax * (e.xyz - c.xyz);
+      sum += top + ay * (bottom - top);
+      // Every texel with a weight must be observed (ax, ay < 1: a always has one).
+      const bool seen = a.w > 0.0f && (ax == 0.0f || b.w > 0.0f) && (ay == 0.0f || c.w > 0.0f) &&
+                        (ax == 0.0f || ay == 0.0f || e.w > 0.0f);
+      all &= seen ? 1 : 0;
     }
   out[row * m + x] = (float4)(sum / (float)(samples * samples), all ? 1.0f : 0.0f);
 }

@@ -1,5 +1,7 @@
 #include "kernels/envmap/keyframe_reprojection_reference.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "kernels/envmap/keyframe_reprojection.hpp"
@@ -26,10 +28,26 @@ ImageRGBAF reproject_keyframe_reference(const ImageRGBAF& texels,
           const float u = (static_cast<float>(x * samples + i) + 0.5F) * inv;
           const float v = (static_cast<float>(y * samples + j) + 0.5F) * inv;
           const Eigen::Vector3f w = parallax_direction(p, cube_face_direction(face, u, v));
-          const TexelIndex t = cube_texel_of(w, n);
-          const float* s = &texels.at(t.x, t.face * n + t.y, 0);
-          for (int c = 0; c < 3; ++c) sum[c] += s[c];
-          all = all && s[3] > 0.0F;
+          const CubeCoord cc = cube_coord_of(w);
+          const float px = cc.u * static_cast<float>(n) - 0.5F;
+          const float py = cc.v * static_cast<float>(n) - 0.5F;
+          const float x0f = std::floor(px), y0f = std::floor(py);
+          const float ax = px - x0f, ay = py - y0f;
+          const auto at = [&](float xf, float yf) {
+            const int xi = std::clamp(static_cast<int>(xf), 0, n - 1);
+            const int yi = std::clamp(static_cast<int>(yf), 0, n - 1);
+            return &texels.at(xi, cc.face * n + yi, 0);
+          };
+          const float *a = at(x0f, y0f), *b = at(x0f + 1.0F, y0f), *c = at(x0f, y0f + 1.0F),
+                      *e = at(x0f + 1.0F, y0f + 1.0F);
+          for (int ch = 0; ch < 3; ++ch) {
+            const float dab = b[ch] - a[ch], dce = e[ch] - c[ch];
+            const float top = a[ch] + ax * dab, bottom = c[ch] + ax * dce;
+            const float dv = bottom - top;
+            sum[ch] += top + ay * dv;
+          }
+          all = all && a[3] > 0.0F && (ax == 0.0F || b[3] > 0.0F) && (ay == 0.0F || c[3] > 0.0F) &&
+                (ax == 0.0F || ay == 0.0F || e[3] > 0.0F);
         }
       const float count = static_cast<float>(samples * samples);
       for (int c = 0; c < 3; ++c) out.at(x, row, c) = sum[c] / count;
