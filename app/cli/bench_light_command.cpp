@@ -36,7 +36,10 @@ void run(const Options& o) {
   ComputeContext ctx;
   light::LightEstimatorConfig config;
   config.keyframes.face_size = o.face_size;
-  if (o.room) config.room = light::sim_room_box();
+  if (o.room) {  // as the service runs the sim with room = "sim": SH at the object
+    config.room = light::sim_room_box();
+    config.sh_position = sim::light_probe_position();
+  }
   light::LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, config);
   BracketSequencer sequencer;
   FisheyeFrame frame;
@@ -122,7 +125,9 @@ void add_bench_light_command(CLI::App& bench) {
       ->capture_default_str();
   cmd->add_option("--sim", o->sim, "Sim options (after realtime=0)")->capture_default_str();
   cmd->add_option("--face-size", o->face_size, "Keyframe face size")->capture_default_str();
-  cmd->add_flag("--room-box", o->room, "Parallax with the sim's room box (as eval light)");
+  cmd->add_flag("--room-box", o->room,
+                "Parallax with the sim's room box, SH reprojected to the object (as the "
+                "service with [light] room = \"sim\")");
   cmd->add_option("--json", o->json, "Write {p50_ms, p99_ms, stages} as JSON");
   cmd->callback([o] { run(*o); });
 }

@@ -5,6 +5,8 @@
 #include <ctime>
 #include <string>
 
+#include "kernels/envmap/keyframe_reprojection.hpp"
+
 namespace probeless::light {
 
 namespace {
@@ -95,7 +97,21 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
 
   downsample_.run(keyframe.texels, config_.sh_face_size, small_);
   small_.download(ctx_.queue(), small_host_);  // blocking: waits for the whole queue
-  sh_ = projector_.project(small_host_);
+  if (config_.room && config_.sh_position) {
+    // Seen from the object: the reprojection folded into the projection table, built the
+    // first time a keyframe is used (keyframes never move).
+    auto it = reprojected_.find(keyframe.id);
+    if (it == reprojected_.end())
+      it = reprojected_
+               .emplace(keyframe.id,
+                        ShProjector(config_.sh_face_size,
+                                    envmap::reprojection_constants(config_.room, keyframe.position,
+                                                                   *config_.sh_position)))
+               .first;
+    sh_ = it->second.project(small_host_);
+  } else {
+    sh_ = projector_.project(small_host_);
+  }
   lap("sh");
   stats_.record("total", std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   stats_.record("cpu:total", process_cpu_ms() - cpu0);

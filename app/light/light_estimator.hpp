@@ -3,6 +3,7 @@
 // for the fisheye's position (KeyframeSet), the texel update through the camera model and the
 // rig pose (converting only the raw pixels it reads), push-pull of unobserved texels, and the
 // SH of the updated keyframe. Keeps per-stage timings.
+#include <map>
 #include <memory>
 #include <optional>
 
@@ -27,7 +28,11 @@ struct LightEstimatorConfig {
   HdrConversionParams hdr;
   // Parallax with a room proxy (docs/light-capture.md "Parallax"); none: distant light.
   std::optional<envmap::RoomBox> room;
-  int sh_face_size = 32;  // the keyframe is box-averaged to this before the SH projection
+  // With a room: the SH is of the keyframe reprojected to this point (the object's), not of
+  // the keyframe as seen from its own position.
+  std::optional<Eigen::Vector3d> sh_position;
+  // The keyframe is box-averaged (or reprojected) to this before the SH projection.
+  int sh_face_size = 32;
   // Wait for the queue after each stage so that stats() holds each stage's time (what
   // `bench light` reports); false: one wait, at the SH download.
   bool time_stages = true;
@@ -44,7 +49,8 @@ class LightEstimator {
   // when the trajectory does not cover it.
   bool process(const FisheyeFrame& frame, const Trajectory& rig);
 
-  // SH (5 bands) of the keyframe last updated, after push-pull.
+  // SH (5 bands) of the keyframe last updated, after push-pull; seen from sh_position when
+  // that and a room are configured.
   const ShRgb& sh() const { return sh_; }
   const envmap::KeyframeSet& keyframes() const { return keyframes_; }
   // Host copy of a keyframe's texels (blocking).
@@ -65,6 +71,8 @@ class LightEstimator {
   envmap::PushPull push_pull_;
   envmap::EnvmapDownsample downsample_;
   ShProjector projector_;
+  // With a room and sh_position: per keyframe id, the table of its SH seen from there.
+  std::map<int, ShProjector> reprojected_;
   DeviceImage<std::uint16_t, 3> raw_;
   DeviceImage<float, 4> small_;
   envmap::ImageRGBAF small_host_;

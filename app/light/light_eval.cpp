@@ -13,7 +13,7 @@
 #include "drivers/sim/sim_renderer.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "drivers/sim/sim_world.hpp"
-#include "kernels/envmap/keyframe_reprojection_reference.hpp"
+#include "kernels/envmap/keyframe_reprojection.hpp"
 
 namespace probeless::light {
 
@@ -291,7 +291,7 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
     return c;
   };
   const auto seen_from = [&](const Eigen::Vector3d& where) {
-    return envmap::reproject_keyframe_reference(texels, keyframe->position, room, where, m, n / m);
+    return envmap::reproject_keyframe(texels, keyframe->position, room, where, m, n / m);
   };
   std::vector<bool> unused;
   const envmap::ImageRGBAF est_keyframe = average_observed(texels, m, unused);

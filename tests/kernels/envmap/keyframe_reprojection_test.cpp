@@ -7,44 +7,13 @@
 
 #include "envmap_test_support.hpp"
 #include "kernels/envmap/envmap_update_reference.hpp"
-#include "kernels/envmap/keyframe_reprojection_reference.hpp"
-#include "support/cl_context.hpp"
 
 namespace probeless::envmap {
 namespace {
 
 using namespace envmap::testing;
-using probeless::testing::cl_context;
 
 const RoomBox kRoom{{-2.5, -2.5, 0.0}, {2.5, 2.5, 2.7}};
-
-ImageRGBAF device_reproject(const ImageRGBAF& texels, const Eigen::Vector3d& k,
-                            const std::optional<RoomBox>& room, const Eigen::Vector3d& target,
-                            int m, int samples) {
-  auto& ctx = cl_context();
-  KeyframeReprojection stage(ctx);
-  const DeviceImage<float, 4> t(ctx, texels);
-  DeviceImage<float, 4> out;
-  stage.run(t, k, room, target, m, samples, out);
-  return out.download(ctx.queue());
-}
-
-TEST(KeyframeReprojection, MatchesTheReference) {
-  std::mt19937 rng(21);
-  std::uniform_real_distribution<double> u(-1, 1);
-  for (const auto& [n, m, samples] : std::vector<std::tuple<int, int, int>>{
-           {1, 1, 1}, {5, 3, 2}, {16, 16, 1}, {128, 32, 4}, {33, 8, 3}}) {
-    const ImageRGBAF texels = random_texels(rng, n);
-    const Eigen::Vector3d k(u(rng), u(rng), 1.2 + 0.2 * u(rng));
-    const Eigen::Vector3d target = k + Eigen::Vector3d(1.5 * u(rng), 1.5 * u(rng), 0.4 * u(rng));
-    for (const auto& room : {std::optional<RoomBox>(kRoom), std::optional<RoomBox>()}) {
-      const ImageRGBAF got = device_reproject(texels, k, room, target, m, samples);
-      const ImageRGBAF want = reproject_keyframe_reference(texels, k, room, target, m, samples);
-      // A sub-texel direction on a keyframe texel's edge may round to the other side.
-      EXPECT_LE(count_mismatches(got, want), std::max(1, 6 * m * m / 200)) << n << " " << m;
-    }
-  }
-}
 
 // From the keyframe's own position the reprojection is a box filter of observed-only texels.
 TEST(KeyframeReprojection, AtTheKeyframesPositionItIsABoxFilter) {
@@ -55,7 +24,7 @@ TEST(KeyframeReprojection, AtTheKeyframesPositionItIsABoxFilter) {
   for (int y = 0; y < 6 * n; ++y)  // 1 % unobserved: some 4 x 4 blocks whole, some not
     for (int x = 0; x < n; ++x) texels.at(x, y, 3) = pick(rng) < 0.01F ? 0.0F : 0.5F;
   const Eigen::Vector3d k(0.3, -0.2, 1.1);
-  const ImageRGBAF r = reproject_keyframe_reference(texels, k, kRoom, k, m, s);
+  const ImageRGBAF r = reproject_keyframe(texels, k, kRoom, k, m, s);
   int observed = 0;
   for (int row = 0; row < 6 * m; ++row)
     for (int x = 0; x < m; ++x) {
@@ -95,7 +64,7 @@ TEST(KeyframeReprojection, ShowsTheRoomFromTheTarget) {
       texels.at(x, row, 3) = row / n == 5 ? 0.0F : 1.0F;  // the floor never observed
     }
   const auto error = [&](const std::optional<RoomBox>& room, int* unobserved_floor) {
-    const ImageRGBAF r = reproject_keyframe_reference(texels, k, room, target, m, s);
+    const ImageRGBAF r = reproject_keyframe(texels, k, room, target, m, s);
     double err2 = 0;
     int count = 0;
     *unobserved_floor = 0;
