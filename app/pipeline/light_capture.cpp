@@ -5,7 +5,9 @@
 #include <chrono>
 
 #include "app/light/light_estimator.hpp"
+#include "app/light/room_proxy.hpp"
 #include "core/camera/kannala_brandt.hpp"
+#include "drivers/sim/sim_rig.hpp"
 #include "kernels/runtime/compute_context.hpp"
 
 namespace probeless {
@@ -24,6 +26,29 @@ const KannalaBrandtCamera& kannala_brandt(const RigCalibration& calibration) {
   return *kb;
 }
 
+bool is_sim(const std::string& source) {
+  return source == "sim" || source.starts_with("sim:");
+}
+
+// [light] room (docs/configuration.md): the room box parallax takes, if any.
+std::optional<envmap::RoomBox> room_of(const ServiceConfig& c) {
+  if (c.light_room == "box") return envmap::RoomBox{c.light_room_min, c.light_room_max};
+  if (c.light_room == "sim") {
+    if (!is_sim(c.source))
+      throw std::invalid_argument(
+          "light capture: [light] room = \"sim\" needs the sim source, not " + c.source +
+          " (use room = \"box\" with the room's extent)");
+    return light::sim_room_box();
+  }
+  return std::nullopt;
+}
+
+// Where an object takes its light from: 10 cm above where it stands (the sim's
+// light_probe_position() for the default object on the table anchor).
+Eigen::Vector3d object_light_point(const ObjectConfig& o) {
+  return o.position.value_or(sim::object_anchor()) + Eigen::Vector3d(0, 0, 0.1);
+}
+
 }  // namespace
 
 struct LightCapture::Estimator {
@@ -34,6 +59,7 @@ struct LightCapture::Estimator {
 LightCapture::LightCapture(const ServiceConfig& config, const RigCalibration& calibration)
     : config_(config), calibration_(calibration), estimator_(std::make_unique<Estimator>()) {
   (void)kannala_brandt(calibration_);  // fail at start, not on the first frame
+  (void)room_of(config_);
 }
 
 LightCapture::~LightCapture() = default;
@@ -88,6 +114,9 @@ void LightCapture::run(std::stop_token stop, StageStats& stats) {
     lc.keyframes.face_size = config_.light_face_size;
     lc.keyframes.new_keyframe_distance_m = config_.light_keyframe_distance_m;
     lc.time_stages = false;  // one wait per frame; the service reports the whole update
+    lc.room = room_of(config_);
+    if (lc.room && !config_.objects.empty())
+      lc.sh_position = object_light_point(config_.objects.front());
     estimator_->light = std::make_unique<light::LightEstimator>(
         *estimator_->ctx, kannala_brandt(calibration_).params(), calibration_.T_rig_fisheye, lc);
   } catch (const std::exception& e) {
@@ -128,9 +157,10 @@ void LightCapture::run(std::stop_token stop, StageStats& stats) {
 
 nlohmann::json LightCapture::status() const {
   std::lock_guard lock(mutex_);
-  nlohmann::json j = {{"state", state_},         {"frames", processed_},
-                      {"dropped", dropped_},     {"frames_without_pose", without_pose_},
-                      {"keyframes", keyframes_}, {"active_keyframe", active_keyframe_}};
+  nlohmann::json j = {{"state", state_},           {"frames", processed_},
+                      {"dropped", dropped_},       {"frames_without_pose", without_pose_},
+                      {"keyframes", keyframes_},   {"active_keyframe", active_keyframe_},
+                      {"room", config_.light_room}};
   if (sh_) {
     // L00 times Y00 = the mean radiance over the sphere, per channel (up to the constant the
     // HDR conversion leaves).
