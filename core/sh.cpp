@@ -133,41 +133,70 @@ Eigen::Vector3d sh_irradiance(const ShRgb& radiance, const Eigen::Vector3d& norm
          2 * c2 * (L[sh_index(1, 1)] * x + L[sh_index(1, -1)] * y + L[sh_index(1, 0)] * z);
 }
 
-ShRgb rotate_sh(const ShRgb& sh, const Eigen::Matrix3d& rotation) {
-  // Each band is closed under rotation, so its rotation matrix follows exactly from samples:
-  // with A the band's basis at directions d_k and B at R^T d_k, g = A c' = B c.
-  static const Eigen::Matrix<double, Eigen::Dynamic, 3> directions = [] {
-    constexpr int kCount = 64;  // spherical Fibonacci points: well spread, no symmetry
-    Eigen::Matrix<double, Eigen::Dynamic, 3> d(kCount, 3);
+namespace {
+
+// Each band is closed under rotation, so its rotation matrix follows exactly from samples:
+// with A the band's basis at directions d_k and B at R^T d_k, g = A c' = B c, hence
+// c' = A^+ B c. The directions and the pseudo-inverses A^+ do not depend on R and are made
+// once, so a rotation costs 64 basis evaluations and four small products (a few
+// microseconds), cheap enough per object per frame.
+struct RotationFit {
+  static constexpr int kCount = 64;  // spherical Fibonacci points: well spread, no symmetry
+  std::array<Eigen::Vector3d, kCount> directions;
+  std::array<Eigen::MatrixXd, kShMaxBands> pinv;  // band l: (2l+1) x kCount
+
+  RotationFit() {
     const double golden = kPi * (3.0 - std::sqrt(5.0));
+    Eigen::MatrixXd A(kCount, kShMaxCount);
     for (int k = 0; k < kCount; ++k) {
       const double z = 1.0 - (2.0 * k + 1.0) / kCount, r = std::sqrt(1.0 - z * z);
-      d.row(k) << r * std::cos(golden * k), r * std::sin(golden * k), z;
+      directions[static_cast<std::size_t>(k)] = {r * std::cos(golden * k), r * std::sin(golden * k),
+                                                 z};
+      const ShBasis y = sh_basis(directions[static_cast<std::size_t>(k)]);
+      for (int i = 0; i < kShMaxCount; ++i) A(k, i) = y[static_cast<std::size_t>(i)];
     }
-    return d;
-  }();
-  const Eigen::Index n = directions.rows();
-  Eigen::MatrixXd A(n, kShMaxCount), B(n, kShMaxCount);
-  for (Eigen::Index k = 0; k < n; ++k) {
-    const Eigen::Vector3d d = directions.row(k).transpose();
-    const ShBasis a = sh_basis(d), b = sh_basis(rotation.transpose() * d);
-    for (int i = 0; i < kShMaxCount; ++i) {
-      A(k, i) = a[static_cast<std::size_t>(i)];
-      B(k, i) = b[static_cast<std::size_t>(i)];
+    for (int l = 0; l < kShMaxBands; ++l) {
+      const Eigen::MatrixXd a = A.middleCols(l * l, 2 * l + 1);
+      pinv[static_cast<std::size_t>(l)] =
+          a.colPivHouseholderQr().solve(Eigen::MatrixXd::Identity(kCount, kCount));
     }
   }
-  ShRgb out = sh;
-  for (int l = 1; l < sh.bands; ++l) {
+};
+
+}  // namespace
+
+ShRotation sh_rotation(const Eigen::Matrix3d& rotation) {
+  static const RotationFit fit;
+  Eigen::MatrixXd B(RotationFit::kCount, kShMaxCount);
+  for (int k = 0; k < RotationFit::kCount; ++k) {
+    const ShBasis b = sh_basis(rotation.transpose() * fit.directions[static_cast<std::size_t>(k)]);
+    for (int i = 0; i < kShMaxCount; ++i) B(k, i) = b[static_cast<std::size_t>(i)];
+  }
+  ShRotation m = ShRotation::Zero();
+  m(0, 0) = 1.0;  // band 0 is a constant
+  for (int l = 1; l < kShMaxBands; ++l) {
     const int first = l * l, size = 2 * l + 1;
-    const Eigen::MatrixXd M =
-        A.middleCols(first, size).colPivHouseholderQr().solve(B.middleCols(first, size));
-    for (int i = 0; i < size; ++i) {
+    m.block(first, first, size, size) =
+        fit.pinv[static_cast<std::size_t>(l)] * B.middleCols(first, size);
+  }
+  return m;
+}
+
+ShRgb apply_sh_rotation(const ShRgb& sh, const ShRotation& rotation) {
+  ShRgb out = sh;
+  for (int l = 0; l < sh.bands; ++l) {  // block-diagonal: bands do not mix
+    const int first = l * l, end = (l + 1) * (l + 1);
+    for (int i = first; i < end; ++i) {
       Eigen::Vector3d v = Eigen::Vector3d::Zero();
-      for (int j = 0; j < size; ++j) v += M(i, j) * sh.c[static_cast<std::size_t>(first + j)];
-      out.c[static_cast<std::size_t>(first + i)] = v;
+      for (int j = first; j < end; ++j) v += rotation(i, j) * sh.c[static_cast<std::size_t>(j)];
+      out.c[static_cast<std::size_t>(i)] = v;
     }
   }
   return out;
+}
+
+ShRgb rotate_sh(const ShRgb& sh, const Eigen::Matrix3d& rotation) {
+  return apply_sh_rotation(sh, sh_rotation(rotation));
 }
 
 }  // namespace probeless

@@ -54,8 +54,15 @@ ShRgb project_sh_latlong(const ImageRGBF& latlong, int bands = kShMaxBands);
 // A Lambertian surface of albedo rho reflects rho E / pi.
 Eigen::Vector3d sh_irradiance(const ShRgb& radiance, const Eigen::Vector3d& normal);
 
+// The linear map on the 25 coefficients that rotates a function by R: block-diagonal, one
+// (2l+1)^2 block per band (each band is closed under rotation), and orthogonal.
+using ShRotation = Eigen::Matrix<double, kShMaxCount, kShMaxCount>;
+ShRotation sh_rotation(const Eigen::Matrix3d& rotation);
+
 // Coefficients of the rotated function g(d) = f(R^T d): what f looks like after turning it by
-// R (for example from the world frame into an object's frame, R = R_object_world).
+// R (for example from the world frame into an object's frame, R = R_object_world). The
+// matrix form is for applying one rotation to many coefficient sets.
 ShRgb rotate_sh(const ShRgb& sh, const Eigen::Matrix3d& rotation);
+ShRgb apply_sh_rotation(const ShRgb& sh, const ShRotation& rotation);
 
 }  // namespace probeless

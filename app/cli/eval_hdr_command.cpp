@@ -5,6 +5,7 @@
 
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -26,6 +27,8 @@ struct Options {
 nlohmann::json to_json(const HdrEvalReport& r) {
   return {{"image", r.image},
           {"bits", r.bits},
+          {"merge_cycles", r.merge_cycles},
+          {"weights", r.weights == MergeWeights::Hat ? "hat" : "noise"},
           {"median_rel_error", r.median_rel_error},
           {"p95_rel_error", r.p95_rel_error},
           {"measurable_fraction", r.measurable_fraction},
@@ -57,9 +60,10 @@ void run(const Options& o) {
     r.image = o.image;
     std::cout << fmt::format(
         "{} {}-bit: median rel error {:.4f}, p95 {:.4f}, measurable {:.4f}, settled after {} "
-        "cycles{}, stops L {} M {} H {} (scene range {:.3g}:1)\n",
+        "cycles{}, stops L {} M {} H {} (scene range {:.3g}:1; merged {} cycles, {} weights)\n",
         o.image, bits, r.median_rel_error, r.p95_rel_error, r.measurable_fraction, r.settle_cycles,
-        r.settled ? "" : " (NOT settled)", r.low_stop, r.medium_stop, r.high_stop, r.scene_range);
+        r.settled ? "" : " (NOT settled)", r.low_stop, r.medium_stop, r.high_stop, r.scene_range,
+        r.merge_cycles, r.weights == MergeWeights::Hat ? "hat" : "noise");
     reports.push_back(r);
   }
   if (!o.json.empty()) {
@@ -93,6 +97,14 @@ void add_eval_hdr_command(CLI::App& eval) {
   cmd->add_option("--seed", o->eval.seed, "Noise seed")->capture_default_str();
   cmd->add_option("--full-well", o->eval.full_well_e, "Electrons at full scale (0: 10000)");
   cmd->add_option("--read-noise", o->eval.read_noise_dn, "Read noise in DN (< 0: the default)");
+  cmd->add_flag(
+      "!--fixed-medium", o->eval.sequencer.adapt_medium,
+      "Keep the medium exposure at the start value (the camera's AE) instead of adapting it");
+  cmd->add_option("--weights", o->eval.weights,
+                  "Merge weights: noise (inverse variance under the camera model) or hat")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, MergeWeights>{
+          {"noise", MergeWeights::NoiseOptimal}, {"hat", MergeWeights::Hat}}))
+      ->capture_default_str();
   cmd->add_option("--mains-hz", o->eval.sequencer.mains_hz, "Mains frequency (50 or 60)")
       ->capture_default_str();
   cmd->callback([o] { run(*o); });

@@ -8,15 +8,16 @@
 namespace probeless {
 
 FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration,
-                               bool keep_matte)
+                               bool keep_matte, LightSource light)
     : calibration_(calibration), keep_matte_(keep_matte) {
   ComputeOptions options;
   if (!config.cl_platform.empty()) options.selector.platform_substring = config.cl_platform;
   if (!config.cl_device.empty()) options.selector.device_substring = config.cl_device;
   ctx_ = std::make_unique<ComputeContext>(options);
 
-  stages_.push_back(std::make_unique<RenderStage>(make_scene_objects(config.objects),
-                                                  calibration.rgb.intrinsics()));
+  stages_.push_back(std::make_unique<RenderStage>(
+      make_scene_objects(config.objects, config.ground, default_prt_cache_dir()),
+      calibration.rgb.intrinsics(), std::move(light)));
   stages_.push_back(std::make_unique<UploadStage>(*ctx_));
   auto occlusion =
       std::make_unique<OcclusionStage>(eval::make_method(*ctx_, config.occlusion_method));

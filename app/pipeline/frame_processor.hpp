@@ -15,7 +15,9 @@ namespace probeless {
 
 class FrameProcessor {
  public:
-  FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration, bool keep_matte);
+  // `light`: the light capture's snapshots (LightCapture::latest_light), if it runs.
+  FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration, bool keep_matte,
+                 LightSource light = {});
   CompositeFrame process(const RgbdFrame& frame, StageStats& stats);
 
   std::string occlusion_method() const { return occlusion_->method_name(); }

@@ -1,11 +1,38 @@
 #include "app/pipeline/frame_stages.hpp"
 
+#include "app/pipeline/scene_objects.hpp"
+
 namespace probeless {
 
-RenderStage::RenderStage(std::vector<render::VirtualObject> objects, PinholeIntrinsics intrinsics)
-    : objects_(std::move(objects)), intrinsics_(intrinsics) {}
+RenderStage::RenderStage(std::vector<render::VirtualObject> objects, PinholeIntrinsics intrinsics,
+                         LightSource light)
+    : objects_(std::move(objects)),
+      placeholders_(placeholder_objects(objects_)),
+      intrinsics_(intrinsics),
+      light_(std::move(light)) {
+  for (const auto& o : objects_)
+    image_based_ = image_based_ || o.material.shading != render::Material::Shading::Lambert;
+}
 
 void RenderStage::process(FrameWork& work) {
+  const std::shared_ptr<const LightSnapshot> snap =
+      image_based_ && light_ ? light_() : std::shared_ptr<const LightSnapshot>{};
+  work.hdr = snap && snap->colour_exposure_valid;
+  if (!work.hdr) {
+    work.virtual_view.output = render::ColourOutput::Display8;
+    renderer_.render({intrinsics_, work.T_world_camera}, placeholders_, work.virtual_view);
+    return;
+  }
+  if (snap->version != light_version_) {
+    // A new keyframe copy: a new Environment, uploaded and prefiltered once for all objects.
+    auto env = std::make_shared<const render::Environment>(
+        render::make_environment(snap->texels, snap->sh));
+    renderer_.prepare(env);
+    for (auto& o : objects_) o.environment = env;
+    light_version_ = snap->version;
+  }
+  for (int c = 0; c < 3; ++c) work.camera.exposure[c] = snap->colour_exposure[c];
+  work.virtual_view.output = render::ColourOutput::LinearFloat;
   renderer_.render({intrinsics_, work.T_world_camera}, objects_, work.virtual_view);
 }
 
@@ -14,7 +41,10 @@ void UploadStage::process(FrameWork& work) {
   // Non-blocking writes: the host images live until the frame is done (download waits).
   work.color.upload(q, work.input->color, false);
   work.real_depth.upload(q, work.input->depth, false);
-  work.virtual_color.upload(q, work.virtual_view.color, false);
+  if (work.hdr)
+    work.virtual_radiance.upload(q, work.virtual_view.radiance, false);
+  else
+    work.virtual_color.upload(q, work.virtual_view.color, false);
   work.virtual_depth.upload(q, work.virtual_view.depth_mm, false);
   if (!work.alpha.same_size(work.color)) {
     work.alpha.resize(ctx_.context(), work.color.width(), work.color.height());
@@ -27,7 +57,10 @@ void OcclusionStage::process(FrameWork& work) {
 }
 
 void CompositeStage::process(FrameWork& work) {
-  composite_.process(work.color, work.virtual_color, work.alpha, work.composite);
+  if (work.hdr)
+    hdr_.process(work.color, work.virtual_radiance, work.alpha, work.camera, work.composite);
+  else
+    composite_.process(work.color, work.virtual_color, work.alpha, work.composite);
 }
 
 void DownloadStage::process(FrameWork& work) {

@@ -3,14 +3,17 @@
 // lifecycle (constructed from config on the processing thread, process() once per frame);
 // FrameWork is the blackboard they pass along. Device images stay on the device between
 // upload and download.
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "app/pipeline/light_capture.hpp"
 #include "app/render/renderer.hpp"
 #include "core/calibration.hpp"
 #include "core/frame.hpp"
 #include "kernels/composite/compositor.hpp"
+#include "kernels/composite/hdr_compositor.hpp"
 #include "kernels/occlusion/occlusion_method.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_image.hpp"
@@ -20,10 +23,15 @@ namespace probeless {
 struct FrameWork {
   const RgbdFrame* input = nullptr;
   Pose T_world_camera;
-  render::RenderTarget virtual_view;  // host: RGBA8 colour + depth in mm
+  render::RenderTarget virtual_view;  // host: RGBA8 colour or float radiance, + depth in mm
+  // The virtual layer is in radiance (the light capture's units), composited in HDR with the
+  // colour camera's response; false: display colour under the placeholder light.
+  bool hdr = false;
+  CameraResponse camera;
   DeviceImageRGB8 color;
   DeviceDepthImage real_depth;
   DeviceImageRGBA8 virtual_color;
+  DeviceImage<float, 4> virtual_radiance;
   DeviceImageF virtual_depth;
   DeviceImageF alpha;
   DeviceImageRGB8 composite;
@@ -40,17 +48,27 @@ class FrameStage {
   virtual void process(FrameWork& work) = 0;
 };
 
-// Renders the virtual objects at the colour camera's pose and intrinsics.
+// Where the render stage gets the captured light; null or returning null: no light yet.
+using LightSource = std::function<std::shared_ptr<const LightSnapshot>()>;
+
+// Renders the virtual objects at the colour camera's pose and intrinsics. With a light
+// snapshot whose colour exposure is known, the image-based materials are lit by its keyframe
+// and the layer is radiance for the HDR compositor; before that, the placeholder objects.
 class RenderStage final : public FrameStage {
  public:
-  RenderStage(std::vector<render::VirtualObject> objects, PinholeIntrinsics intrinsics);
+  RenderStage(std::vector<render::VirtualObject> objects, PinholeIntrinsics intrinsics,
+              LightSource light = {});
   const char* name() const override { return "render"; }
   void process(FrameWork& work) override;
 
  private:
   render::Renderer renderer_;
   std::vector<render::VirtualObject> objects_;
+  std::vector<render::VirtualObject> placeholders_;
   PinholeIntrinsics intrinsics_;
+  LightSource light_;
+  std::uint64_t light_version_ = 0;
+  bool image_based_ = false;
 };
 
 // Host -> device: the real frame and the rendered virtual view.
@@ -78,13 +96,14 @@ class OcclusionStage final : public FrameStage {
 
 class CompositeStage final : public FrameStage {
  public:
-  explicit CompositeStage(ComputeContext& ctx) : ctx_(ctx), composite_(ctx) {}
+  explicit CompositeStage(ComputeContext& ctx) : ctx_(ctx), composite_(ctx), hdr_(ctx) {}
   const char* name() const override { return "composite"; }
   void process(FrameWork& work) override;
 
  private:
   ComputeContext& ctx_;
   Compositor composite_;
+  HdrCompositor hdr_;
 };
 
 // Device -> host, waiting for the queue: the end of the device work of the frame.

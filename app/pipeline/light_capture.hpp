@@ -20,8 +20,28 @@
 #include "core/calibration.hpp"
 #include "core/frame.hpp"
 #include "core/sh.hpp"
+#include "kernels/envmap/envmap_types.hpp"
 
 namespace probeless {
+
+// What the render stage lights the virtual objects with (issue #6): a host copy of the
+// keyframe nearest to the objects, its SH, and the colour camera's exposure in the same
+// radiance units. Immutable once published; a newer snapshot has a higher version.
+struct LightSnapshot {
+  std::uint64_t version = 0;
+  TimestampNs timestamp_ns = 0;  // of the newest fisheye frame it includes
+  int keyframe_id = -1;
+  // Where `texels` are seen from: the keyframe's capture position, or with a room box
+  // ([light] room) the objects' light point, the keyframe reprojected there (alpha 1 where
+  // observed, else 0).
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  envmap::ImageRGBAF texels;  // n x 6n, envmap_types.hpp layout, after push-pull
+  ShRgb sh;                   // 5 bands of `texels`, world frame (z up)
+  // Fisheye radiance per unit of the colour camera's linear value, per channel
+  // (kernels/hdr/colour_exposure.hpp); valid = false until a frame pair matched.
+  Eigen::Vector3d colour_exposure = Eigen::Vector3d::Ones();
+  bool colour_exposure_valid = false;
+};
 
 class LightCapture {
  public:
@@ -35,16 +55,23 @@ class LightCapture {
   // From the capture threads. A full queue drops the oldest frame (counted).
   void push(FisheyeFrame frame);
   void add_rig_pose(TimestampNs t, const Pose& T_world_rig);
+  // From the RGB-D capture thread: the light thread copies a colour frame only when its
+  // colour-exposure estimate is due (a few times per second), so this is cheap.
+  void offer_rgbd(const RgbdFrame& frame);
 
   // The light thread's body: until stop is requested. Builds the OpenCL context first.
   void run(std::stop_token stop, StageStats& stats);
 
   nlohmann::json status() const;
   std::optional<ShRgb> latest_sh() const;  // radiance SH of the keyframe last updated
+  // The newest snapshot; null until the first is published.
+  std::shared_ptr<const LightSnapshot> latest_light() const;
 
  private:
   std::optional<Pose> rig_pose_at(const FisheyeFrame& frame) const;
   void fail(const std::string& what);
+  void update_colour_exposure(const FisheyeFrame& frame);
+  void publish(const FisheyeFrame& frame);
 
   ServiceConfig config_;
   RigCalibration calibration_;
@@ -58,7 +85,16 @@ class LightCapture {
   std::uint64_t processed_ = 0, dropped_ = 0, without_pose_ = 0;
   int keyframes_ = 0, active_keyframe_ = -1;
   std::optional<ShRgb> sh_;
-  std::string state_ = "starting", error_;
+  std::shared_ptr<const LightSnapshot> snapshot_;
+  std::uint64_t snapshot_version_ = 0;
+  TimestampNs last_publish_ns_ = 0;
+  Eigen::Vector3d anchor_ = Eigen::Vector3d::Zero();       // the objects' mean position
+  Eigen::Vector3d light_point_ = Eigen::Vector3d::Zero();  // 10 cm above it
+  std::optional<envmap::RoomBox> room_;                    // [light] room
+  bool want_rgbd_ = true;
+  std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took
+  TimestampNs last_colour_exposure_ns_ = 0;
+  std::string state_ = "starting", error_, colour_error_;
 };
 
 }  // namespace probeless

@@ -135,8 +135,11 @@ void Pipeline::capture_rgbd(std::stop_token stop) {
     if (r == ReadResult::Frame) {
       stats_.record("capture_rgbd", ms_since(t0));
       ++rgbd_in_;
-      if (light_ && frame.truth && frame.truth->rig_pose)
-        light_->add_rig_pose(frame.timestamp_ns, *frame.truth->rig_pose);
+      if (light_) {
+        if (frame.truth && frame.truth->rig_pose)
+          light_->add_rig_pose(frame.timestamp_ns, *frame.truth->rig_pose);
+        light_->offer_rgbd(frame);
+      }
       last_rgbd_ns_ = monotonic_now_ns();
       rgbd_slot_.publish(std::move(frame));
       continue;
@@ -198,7 +201,10 @@ void Pipeline::capture_fisheye(std::stop_token stop) {
 
 void Pipeline::process(std::stop_token stop) {
   try {
-    FrameProcessor processor(config_, rig_.calibration, options_.keep_matte || files_ != nullptr);
+    LightSource light;
+    if (light_) light = [this] { return light_->latest_light(); };
+    FrameProcessor processor(config_, rig_.calibration, options_.keep_matte || files_ != nullptr,
+                             std::move(light));
     {
       std::lock_guard lock(state_mutex_);
       occlusion_name_ = processor.occlusion_method();

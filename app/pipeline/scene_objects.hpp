@@ -1,4 +1,5 @@
 #pragma once
+#include <filesystem>
 #include <vector>
 
 #include "app/pipeline/service_config.hpp"
@@ -9,6 +10,25 @@ namespace probeless {
 // Virtual objects from config: meshes built or loaded once, placed in the world frame. An
 // object's `position` is where its lowest point stands (so a sphere rests on the table rather
 // than sinking into it); without one it stands on the synthetic rig's table anchor.
-std::vector<render::VirtualObject> make_scene_objects(const std::vector<ObjectConfig>& objects);
+//
+// Materials map to render::Material::Shading (docs/rendering.md). A `prt` object's transfer
+// is baked at load (app/render/prt/, with the ground plane under it blocking the light from
+// below) and cached in `prt_cache_dir` (empty: no cache). With [ground] enabled and any
+// image-based object, a last object is added: the ground receiver of differential rendering
+// (Material::Shading::GroundShadow), a grid on the plane whose transfer is the difference the
+// objects make (baked for all objects together, as one mesh; docs/rendering.md "Shadows on the
+// real ground").
+std::vector<render::VirtualObject> make_scene_objects(
+    const std::vector<ObjectConfig>& objects, const GroundConfig& ground = {},
+    const std::filesystem::path& prt_cache_dir = {});
+
+// The same objects with every material replaced by the placeholder Lambert and without the
+// ground receiver: what is drawn until the light capture has a snapshot.
+std::vector<render::VirtualObject> placeholder_objects(
+    const std::vector<render::VirtualObject>& objects);
+
+// Where baked transfer is kept: $PROBELESS_CACHE_DIR/prt, systemd's CacheDirectory/prt,
+// $XDG_CACHE_HOME/probeless/prt or ~/.cache/probeless/prt (as the OpenCL program cache).
+std::filesystem::path default_prt_cache_dir();
 
 }  // namespace probeless

@@ -9,12 +9,15 @@
 
 #include "core/error.hpp"
 #include "core/toml_reader.hpp"
+#include "drivers/sim/sim_rig.hpp"
 
 namespace probeless {
 namespace {
 
 ObjectConfig parse_object(const TomlReader& r, const toml::table& t) {
-  r.only(t, "[[object]]", {"shape", "model", "position", "yaw_deg", "scale", "color"});
+  r.only(
+      t, "[[object]]",
+      {"shape", "model", "position", "yaw_deg", "scale", "color", "material", "roughness", "ior"});
   ObjectConfig o;
   r.get(t, "shape", o.shape);
   r.get(t, "model", o.model);
@@ -30,18 +33,44 @@ ObjectConfig parse_object(const TomlReader& r, const toml::table& t) {
   if (o.model.empty() && !shapes.contains(o.shape))
     r.fail(t.get("shape"), "shape '" + o.shape + "' is not one of pawn, sphere, box");
   if (!(o.scale > 0)) r.fail(t.get("scale"), "scale must be positive");
+  r.get(t, "material", o.material);
+  r.get(t, "roughness", o.roughness);
+  r.get(t, "ior", o.ior);
+  static const std::set<std::string> materials{"lambert", "mirror",  "metal",
+                                               "glass",   "diffuse", "prt"};
+  if (!materials.contains(o.material))
+    r.fail(t.get("material"), "material '" + o.material +
+                                  "' is not one of lambert, mirror, metal, glass, diffuse, prt");
+  if (!(o.roughness >= 0 && o.roughness <= 1))
+    r.fail(t.get("roughness"), "roughness must be in [0, 1]");
+  if (!(o.ior > 0 && o.ior < 5)) r.fail(t.get("ior"), "ior must be in (0, 5)");
   return o;
 }
 
 }  // namespace
+
+std::vector<ObjectConfig> default_objects() {
+  // Beside each other across the table's anchor, 0.3 m apart: both visible from the orbit.
+  ObjectConfig sphere;
+  sphere.shape = "sphere";
+  sphere.material = "mirror";
+  sphere.color = {0.95f, 0.95f, 0.95f};  // polished steel reflects ~60-95 %; chrome-like
+  sphere.position = sim::object_anchor() + Eigen::Vector3d(-0.15, 0.0, 0.0);
+  ObjectConfig pawn;
+  pawn.shape = "pawn";
+  pawn.material = "prt";
+  pawn.color = {0.75f, 0.18f, 0.12f};
+  pawn.position = sim::object_anchor() + Eigen::Vector3d(0.15, 0.0, 0.0);
+  return {sphere, pawn};
+}
 
 ServiceConfig parse_service_config(std::string_view text, std::string_view source_name) {
   const TomlReader r{std::string(source_name)};
   const toml::table root = r.parse(text);
   ServiceConfig c;
   r.only(root, "the top level",
-         {"source", "object", "occlusion", "http", "output", "opencl", "pipeline", "bracket",
-          "light"});
+         {"source", "object", "ground", "occlusion", "http", "output", "opencl", "pipeline",
+          "bracket", "light"});
   if (auto* t = r.optional_table(root, "source")) {
     r.only(*t, "[source]", {"rig"});
     r.get(*t, "rig", c.source);
@@ -95,6 +124,22 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
     if (!(initial_ms > 0)) r.fail(t->get("initial_exposure_ms"), "must be positive");
     if (c.trigger_line < 0) r.fail(t->get("gpio_line"), "gpio_line must be >= 0");
   }
+  if (auto* t = r.optional_table(root, "ground")) {
+    r.only(*t, "[ground]", {"enabled", "height_m", "size_m", "albedo"});
+    r.get(*t, "enabled", c.ground.enabled);
+    if (t->get("height_m")) {
+      double h = 0;
+      r.get(*t, "height_m", h);
+      c.ground.height_m = h;
+    }
+    r.get(*t, "size_m", c.ground.size_m);
+    r.get_vector<3>(*t, "albedo", c.ground.albedo);
+    if (!(c.ground.size_m > 0 && c.ground.size_m <= 20))
+      r.fail(t->get("size_m"), "size_m must be in (0, 20]");
+    for (int i = 0; i < 3; ++i)
+      if (!(c.ground.albedo[i] >= 0 && c.ground.albedo[i] <= 1))
+        r.fail(t->get("albedo"), "albedo must be in [0, 1] per channel");
+  }
   if (auto* t = r.optional_table(root, "light")) {
     r.only(*t, "[light]",
            {"enabled", "face_size", "keyframe_distance_m", "room", "room_min", "room_max"});
@@ -116,8 +161,9 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
       r.fail(t->get("room_min") ? t->get("room_min") : t->get("room_max"),
              "room_min and room_max are used with room = \"box\"");
     }
-    if (c.light_face_size < 8 || c.light_face_size > 1024)
-      r.fail(t->get("face_size"), "face_size must be 8..1024");
+    // Multiples of 32: the renderer's SH come from the keyframe box-averaged to 32 px faces.
+    if (c.light_face_size < 32 || c.light_face_size > 1024 || c.light_face_size % 32 != 0)
+      r.fail(t->get("face_size"), "face_size must be a multiple of 32 in 32..1024");
     if (!(c.light_keyframe_distance_m > 0))
       r.fail(t->get("keyframe_distance_m"), "keyframe_distance_m must be positive");
   }

@@ -20,11 +20,31 @@ struct ObjectConfig {
   double yaw_deg = 0;                       // rotation about world z
   double scale = 1.0;
   Eigen::Vector3f color{0.75f, 0.18f, 0.12f};  // linear base colour
+  // How it is shaded (docs/rendering.md "Materials"): lambert (fixed placeholder light),
+  // mirror, metal (rough, colour = F0), glass (refraction), diffuse (SH irradiance, no
+  // shadows), prt (diffuse with self-shadowing and a shadow on the ground plane).
+  std::string material = "lambert";
+  double roughness = 0.3;  // metal: perceptual roughness in [0, 1]
+  double ior = 1.5;        // glass: index of refraction (glass 1.5, water 1.33)
 };
+
+// [ground]: the real plane the objects stand on, which receives their shadows (differential
+// rendering, docs/rendering.md). From config until it is found in the depth image.
+struct GroundConfig {
+  bool enabled = true;
+  std::optional<double> height_m;  // world z of the plane; default: the objects' lowest base
+  double size_m = 0.8;             // side of the square receiver grid around the objects
+  Eigen::Vector3f albedo{0.45f, 0.35f, 0.25f};  // linear diffuse albedo of the real surface
+};
+
+// The demo scene of issue #6: a mirror sphere and a self-shadowed diffuse pawn side by side
+// on the synthetic rig's table.
+std::vector<ObjectConfig> default_objects();
 
 struct ServiceConfig {
   std::string source = "sim";  // drivers/rig_factory.hpp spec: sim[:opts], replay:DIR, tum:DIR
-  std::vector<ObjectConfig> objects{ObjectConfig{}};
+  std::vector<ObjectConfig> objects = default_objects();
+  GroundConfig ground;
 
   std::string occlusion_method = "direct1";  // see docs/occlusion.md for the list
 

@@ -122,6 +122,14 @@ void Mesh::validate() const {
     if (!p.allFinite()) fail("a position is not finite");
   for (const auto& n : normals)
     if (!n.allFinite()) fail("a normal is not finite");
+  if (!prt_transfer.empty()) {
+    if (prt_transfer.size() != kPrtCoefficients * positions.size())
+      fail("prt_transfer holds " + std::to_string(prt_transfer.size()) + " values, not " +
+           std::to_string(kPrtCoefficients) + " per vertex (" +
+           std::to_string(kPrtCoefficients * positions.size()) + ")");
+    for (float t : prt_transfer)
+      if (!std::isfinite(t)) fail("a transfer coefficient is not finite");
+  }
 }
 
 Mesh make_sphere(float radius, int segments, int rings) {

@@ -12,6 +12,9 @@
 
 namespace probeless::render {
 
+// Transfer coefficients per vertex of the PRT material: 5 SH bands.
+inline constexpr std::size_t kPrtCoefficients = 25;
+
 struct Mesh {
   std::string name;
   std::vector<Eigen::Vector3f> positions;
@@ -22,6 +25,13 @@ struct Mesh {
   std::vector<Eigen::Vector4f> colours;
   std::vector<std::uint32_t> indices;  // triangles, counter-clockwise seen from outside
   Eigen::Vector4f base_colour{1.f, 1.f, 1.f, 1.f};  // linear RGBA
+  // Empty, or kPrtCoefficients per vertex, vertex after vertex: the PRT transfer vectors
+  // (app/render/prt/ bakes them), in the object frame, so that the PrtDiffuse material's exit
+  // radiance is albedo * sum_i T_i L_i with L_i the environment's SH radiance turned into the
+  // object frame (index l (l + 1) + m, core/sh.hpp). The transfer therefore includes the
+  // cosine and the 1/pi of the Lambertian BRDF: an unoccluded vertex with normal n has
+  // T_i = A_l Y_i(n) / pi (A_0 = pi, A_1 = 2 pi / 3, A_2 = pi / 4, A_3 = 0, A_4 = -pi / 24).
+  std::vector<float> prt_transfer;
 
   std::size_t vertex_count() const { return positions.size(); }
   std::size_t triangle_count() const { return indices.size() / 3; }
@@ -45,7 +55,8 @@ Mesh make_pawn(float height = 0.2f, int segments = 64);
 Mesh make_builtin(const std::string& shape);
 
 // Per-vertex normals from the triangles: each triangle gets its own vertices (flat shading,
-// as glTF prescribes for meshes without normals). Colours and uvs are carried along.
+// as glTF prescribes for meshes without normals). Colours and uvs are carried along; PRT
+// transfer is dropped, since it was baked for the old normals (bake after this).
 void compute_flat_normals(Mesh& mesh);
 
 struct ModelLoadOptions {

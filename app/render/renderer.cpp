@@ -6,26 +6,19 @@
 #include <stdexcept>
 #include <string>
 
-#include "app/render/shaders/lambert.hpp"
+#include "app/render/renderer_internal.hpp"
+#include "app/render/sh_uniforms.hpp"
 
 namespace probeless::render {
 
-struct Renderer::GpuMesh {
-  std::weak_ptr<const Mesh> source;  // the entry is dropped when the mesh is gone
-  GlVertexArray vao;
-  GlBuffer vertices, colours, indices;
-  GLsizei index_count = 0;
-  Eigen::Vector4f base_colour;
-};
-
-struct Renderer::Program {
-  GlProgram program;
-  GLint camera_from_object, projection, world_from_object, base_colour, light_dir, ambient;
-};
-
 namespace {
 
-constexpr GLuint kPosition = 0, kNormal = 1, kColour = 2;
+static_assert(static_cast<int>(Material::Shading::GroundShadow) + 1 == Material::kShadingCount,
+              "kShadingCount counts the Shading enumerators");
+
+bool needs_environment(Material::Shading s) {
+  return s != Material::Shading::Lambert;
+}
 
 }  // namespace
 
@@ -67,7 +60,8 @@ Renderer::Renderer(const RendererConfig& config)
   if (!context_->has_gl_extension("GL_EXT_color_buffer_float"))
     throw GlError("renderer: " + context_->renderer() +
                   " lacks GL_EXT_color_buffer_float (needed for the R32F depth output)");
-  programs_.push_back(make_program(Material::Shading::Lambert));
+  programs_.resize(Material::kShadingCount);
+  programs_[0] = make_program(Material::Shading::Lambert);  // the default: fail early
   framebuffer_ = make_framebuffer();
   check_gl("renderer setup");
 }
@@ -80,7 +74,13 @@ Renderer::~Renderer() {
   }
 }
 
-void Renderer::resize(int width, int height) {
+const Renderer::Program& Renderer::program(Material::Shading shading) {
+  auto& slot = programs_.at(static_cast<std::size_t>(shading));
+  if (!slot) slot = make_program(shading);  // compiled on first use: most scenes use one or two
+  return *slot;
+}
+
+void Renderer::resize(int width, int height, ColourOutput output) {
   if (width <= 0 || height <= 0)
     throw std::invalid_argument("renderer: image size must be positive, got " +
                                 std::to_string(width) + "x" + std::to_string(height));
@@ -89,7 +89,9 @@ void Renderer::resize(int width, int height) {
     glBindRenderbuffer(GL_RENDERBUFFER, rb.get());
     glRenderbufferStorage(GL_RENDERBUFFER, format, width, height);
   };
-  storage(colour_buffer_, GL_RGBA8);
+  // RGBA32F rather than 16F for the HDR target: the compositor reads floats anyway, and
+  // lamps in the capture's units can exceed half's 65504.
+  storage(colour_buffer_, output == ColourOutput::LinearFloat ? GL_RGBA32F : GL_RGBA8);
   storage(depth_mm_buffer_, GL_R32F);
   storage(z_buffer_, GL_DEPTH_COMPONENT32F);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
@@ -117,63 +119,43 @@ void Renderer::resize(int width, int height) {
   check_gl("renderer: framebuffer setup");
   width_ = width;
   height_ = height;
-  spdlog::debug("render: framebuffer {}x{}, depth read as {}", width, height,
+  output_ = output;
+  spdlog::debug("render: framebuffer {}x{} {}, depth read as {}", width, height,
+                output == ColourOutput::LinearFloat ? "RGBA32F" : "RGBA8",
                 read_depth_as_red_ ? "R32F" : "RGBA32F");
-}
-
-const Renderer::GpuMesh& Renderer::upload(const std::shared_ptr<const Mesh>& mesh) {
-  auto it = meshes_.find(mesh.get());
-  if (it != meshes_.end() && it->second->source.lock() == mesh) return *it->second;
-  mesh->validate();
-  auto gpu = std::make_unique<GpuMesh>();
-  gpu->source = mesh;
-  gpu->vao = make_vertex_array();
-  gpu->vertices = make_buffer();
-  gpu->indices = make_buffer();
-  gpu->index_count = static_cast<GLsizei>(mesh->indices.size());
-  gpu->base_colour = mesh->base_colour;
-  std::vector<float> interleaved;
-  interleaved.reserve(mesh->positions.size() * 6);
-  for (std::size_t i = 0; i < mesh->positions.size(); ++i) {
-    interleaved.insert(interleaved.end(), mesh->positions[i].data(), mesh->positions[i].data() + 3);
-    interleaved.insert(interleaved.end(), mesh->normals[i].data(), mesh->normals[i].data() + 3);
-  }
-  glBindVertexArray(gpu->vao.get());
-  glBindBuffer(GL_ARRAY_BUFFER, gpu->vertices.get());
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(interleaved.size() * sizeof(float)),
-               interleaved.data(), GL_STATIC_DRAW);
-  const GLsizei stride = 6 * sizeof(float);
-  glEnableVertexAttribArray(kPosition);
-  glVertexAttribPointer(kPosition, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-  glEnableVertexAttribArray(kNormal);
-  glVertexAttribPointer(kNormal, 3, GL_FLOAT, GL_FALSE, stride,
-                        reinterpret_cast<const void*>(3 * sizeof(float)));
-  if (!mesh->colours.empty()) {
-    gpu->colours = make_buffer();
-    glBindBuffer(GL_ARRAY_BUFFER, gpu->colours.get());
-    glBufferData(GL_ARRAY_BUFFER,
-                 static_cast<GLsizeiptr>(mesh->colours.size() * sizeof(Eigen::Vector4f)),
-                 mesh->colours.data(), GL_STATIC_DRAW);
-    glEnableVertexAttribArray(kColour);
-    glVertexAttribPointer(kColour, 4, GL_FLOAT, GL_FALSE, sizeof(Eigen::Vector4f), nullptr);
-  }
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, gpu->indices.get());
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER,
-               static_cast<GLsizeiptr>(mesh->indices.size() * sizeof(std::uint32_t)),
-               mesh->indices.data(), GL_STATIC_DRAW);
-  glBindVertexArray(0);
-  check_gl("renderer: mesh upload");
-  auto& slot = meshes_[mesh.get()];
-  slot = std::move(gpu);
-  return *slot;
 }
 
 void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& objects,
                       RenderTarget& out) {
   context_->make_current();
   const PinholeIntrinsics& k = camera.intrinsics;
-  if (k.width != width_ || k.height != height_) resize(k.width, k.height);
-  std::erase_if(meshes_, [](const auto& entry) { return entry.second->source.expired(); });
+  if (k.width != width_ || k.height != height_ || out.output != output_)
+    resize(k.width, k.height, out.output);
+  drop_expired();
+
+  // Uploads and prefilter passes first: they use framebuffers and state of their own.
+  std::vector<const EnvironmentTexture*> lights(objects.size(), nullptr);
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const VirtualObject& object = objects[i];
+    if (!object.mesh) throw std::invalid_argument("renderer: a virtual object has no mesh");
+    const std::string& name = object.mesh->name;
+    if (!(object.scale > 0))
+      throw std::invalid_argument("renderer: object scale must be > 0 (mesh '" + name + "')");
+    upload(object.mesh);
+    const Material::Shading shading = object.material.shading;
+    if (needs_environment(shading)) {
+      if (!object.environment)
+        throw std::invalid_argument("renderer: mesh '" + name +
+                                    "': its material needs an environment");
+      lights[i] = &upload(object.environment);
+    }
+    if ((shading == Material::Shading::PrtDiffuse || shading == Material::Shading::GroundShadow) &&
+        object.mesh->prt_transfer.empty())
+      throw std::invalid_argument("renderer: mesh '" + name +
+                                  "': the PRT material needs Mesh::prt_transfer");
+    if (shading == Material::Shading::Refraction && !(object.material.ior > 0))
+      throw std::invalid_argument("renderer: mesh '" + name + "': ior must be > 0");
+  }
 
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
   glViewport(0, 0, width_, height_);
@@ -193,17 +175,22 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
       projection_from_intrinsics(k, config_.near_m, config_.far_m).cast<float>();
   const Eigen::Vector3f light = config_.light_direction_world.normalized().cast<float>();
   const Pose T_camera_world = camera.T_world_camera.inverse();
+  const Eigen::Matrix3f world_from_camera =
+      camera.T_world_camera.rotation.toRotationMatrix().cast<float>();
   const Program* bound = nullptr;
-  for (const VirtualObject& object : objects) {
-    if (!object.mesh) throw std::invalid_argument("renderer: a virtual object has no mesh");
-    if (!(object.scale > 0))
-      throw std::invalid_argument("renderer: object scale must be > 0 (mesh '" + object.mesh->name +
-                                  "')");
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const VirtualObject& object = objects[i];
+    if (object.material.shading == Material::Shading::GroundShadow &&
+        out.output != ColourOutput::LinearFloat)
+      continue;  // a signed change of the real pixel: only the HDR compositor can apply it
     const GpuMesh& gpu = upload(object.mesh);
-    const Program& prog = *programs_.at(static_cast<std::size_t>(object.material.shading));
+    const Program& prog = program(object.material.shading);
     if (&prog != bound) {
       glUseProgram(prog.program.get());
       glUniformMatrix4fv(prog.projection, 1, GL_FALSE, projection.data());
+      glUniformMatrix3fv(prog.world_from_camera, 1, GL_FALSE, world_from_camera.data());
+      glUniform1i(prog.linear_output, out.output == ColourOutput::LinearFloat);
+      glUniform1f(prog.exposure, out.exposure);
       glUniform3fv(prog.light_dir, 1, light.data());
       glUniform1f(prog.ambient, config_.ambient);
       bound = &prog;
@@ -217,6 +204,7 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
     glUniformMatrix4fv(prog.camera_from_object, 1, GL_FALSE, m.data());
     glUniformMatrix3fv(prog.world_from_object, 1, GL_FALSE, r.data());
     glUniform4fv(prog.base_colour, 1, colour.data());
+    set_material_uniforms(prog, object, lights[i]);
     if (object.material.double_sided)
       glDisable(GL_CULL_FACE);
     else
@@ -230,14 +218,60 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
   check_gl("renderer: render");
 }
 
+void Renderer::set_material_uniforms(const Program& prog, const VirtualObject& object,
+                                     const EnvironmentTexture* environment) {
+  const Material& material = object.material;
+  switch (material.shading) {
+    case Material::Shading::Lambert:
+      return;
+    case Material::Shading::PrtDiffuse:
+    case Material::Shading::GroundShadow: {
+      const std::array<float, 84> l =
+          prt_light(object.environment->sh, object.T_world_object.rotation.toRotationMatrix());
+      glUniform4fv(prog.light, 21, l.data());
+      glUniform1f(prog.depth_offset_mm, material.depth_offset_mm);
+      return;
+    }
+    case Material::Shading::RoughMetal:
+      glActiveTexture(GL_TEXTURE0 + kSplitSumUnit);
+      glBindTexture(GL_TEXTURE_2D, split_sum_texture());
+      glActiveTexture(GL_TEXTURE0 + kSpecularUnit);
+      glBindTexture(GL_TEXTURE_CUBE_MAP, environment->specular.get());
+      glUniform1f(prog.roughness, material.roughness);
+      break;
+    case Material::Shading::Refraction:
+      glUniform1f(prog.ior, material.ior);
+      break;
+    case Material::Shading::Mirror:
+    case Material::Shading::ShDiffuse:
+      break;
+  }
+  glActiveTexture(GL_TEXTURE0 + kEnvironmentUnit);
+  glBindTexture(GL_TEXTURE_CUBE_MAP, environment->radiance.get());
+  glUniform1f(prog.environment_scale, environment->scale);
+  glUniform1f(prog.max_lod, static_cast<float>(environment->specular_levels - 1));
+  if (prog.irradiance >= 0) {
+    const std::array<Eigen::Matrix4f, 3> m = irradiance_matrices(object.environment->sh);
+    float packed[48];
+    for (std::size_t c = 0; c < 3; ++c) std::copy_n(m[c].data(), 16, packed + 16 * c);
+    glUniformMatrix4fv(prog.irradiance, 3, GL_FALSE, packed);
+  }
+}
+
 void Renderer::read_back(RenderTarget& out) {
-  if (out.color.width() != width_ || out.color.height() != height_)
-    out.color = ImageRGBA8(width_, height_);
   if (out.depth_mm.width() != width_ || out.depth_mm.height() != height_)
     out.depth_mm = ImageF(width_, height_);
   // Rows come bottom-up from GL, and the projection already put the image's top row there.
   glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.color.data());
+  if (out.output == ColourOutput::LinearFloat) {
+    if (out.radiance.width() != width_ || out.radiance.height() != height_)
+      out.radiance = ImageRGBAF(width_, height_);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, out.radiance.data());
+  } else {
+    if (out.color.width() != width_ || out.color.height() != height_)
+      out.color = ImageRGBA8(width_, height_);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.color.data());
+  }
   glReadBuffer(GL_COLOR_ATTACHMENT1);
   if (read_depth_as_red_) {
     glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, out.depth_mm.data());
@@ -246,28 +280,6 @@ void Renderer::read_back(RenderTarget& out) {
     float* d = out.depth_mm.data();
     for (std::size_t i = 0; i < out.depth_mm.pixel_count(); ++i) d[i] = depth_scratch_[4 * i];
   }
-}
-
-std::unique_ptr<Renderer::Program> Renderer::make_program(Material::Shading shading) {
-  auto p = std::make_unique<Program>();
-  switch (shading) {
-    case Material::Shading::Lambert:
-      p->program = link_program("lambert", shaders::lambert_vertex, shaders::lambert_fragment);
-      break;
-  }
-  const GLuint id = p->program.get();
-  auto uniform = [&](const char* name) {
-    const GLint loc = glGetUniformLocation(id, name);
-    if (loc < 0) throw GlError(std::string("shader lacks uniform ") + name);
-    return loc;
-  };
-  p->camera_from_object = uniform("u_camera_from_object");
-  p->projection = uniform("u_projection");
-  p->world_from_object = uniform("u_world_from_object");
-  p->base_colour = uniform("u_base_colour");
-  p->light_dir = uniform("u_light_dir_world");
-  p->ambient = uniform("u_ambient");
-  return p;
 }
 
 }  // namespace probeless::render

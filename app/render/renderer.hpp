@@ -12,6 +12,8 @@
 #include <vector>
 
 #include "app/render/egl_context.hpp"
+#include "app/render/environment.hpp"
+#include "app/render/environment_map.hpp"
 #include "app/render/gl_objects.hpp"
 #include "app/render/mesh.hpp"
 #include "core/camera/pinhole.hpp"
@@ -21,11 +23,36 @@
 namespace probeless::render {
 
 struct Material {
-  // One shader pair per kind (app/render/shaders/); image-based kinds come later.
-  enum class Shading { Lambert };
+  // One shader per kind (app/render/shaders/<kind>.hpp; docs/rendering.md "Materials").
+  // Lambert needs nothing else; every other kind needs the object's environment, and
+  // PrtDiffuse also the mesh's transfer vectors.
+  enum class Shading {
+    Lambert,     // placeholder: one fixed light plus ambient (RendererConfig)
+    Mirror,      // ideal mirror: the reflected ray's radiance x base colour
+    RoughMetal,  // GGX metal, split sum over the prefiltered levels; base colour = F0
+    Refraction,  // glass / water: one refraction at the front face, Fresnel mix with reflection
+    ShDiffuse,   // Lambertian, unshadowed: SH irradiance (R&H 2001); base colour = albedo
+    PrtDiffuse,  // Lambertian, self-shadowed: per-vertex SH transfer (Mesh::prt_transfer)
+    // Differential rendering's receiver (Debevec 1998; thesis ch. 6): a mesh on the real
+    // ground whose transfer is (with objects - without), so it writes the signed radiance
+    // change albedo * sum_i dT_i L_i with coverage 0 (the HDR compositor's "sum" category).
+    // Only the float target draws it: the display target has no way to say "add".
+    GroundShadow,
+  };
+  static constexpr int kShadingCount = 7;
+
   Shading shading = Shading::Lambert;
-  Eigen::Vector4f base_colour{1.f, 1.f, 1.f, 1.f};  // linear RGBA, times the mesh's colours
-  bool double_sided = false;                        // draw back faces (open meshes, single quads)
+  // Linear RGBA, times the mesh's colours: albedo (Lambert, diffuse kinds), reflectance
+  // (Mirror), F0 (RoughMetal), transmission tint (Refraction).
+  Eigen::Vector4f base_colour{1.f, 1.f, 1.f, 1.f};
+  bool double_sided = false;  // draw back faces (open meshes, single quads)
+  float roughness = 0.5f;     // RoughMetal: perceptual roughness in [0, 1], GGX alpha = r^2
+  float ior = 1.5f;           // Refraction: index of refraction (glass 1.5, water 1.33), > 0
+  // GroundShadow: its depth is written this much nearer the camera than the mesh, so that the
+  // real surface it lies on counts as behind it in the occlusion test despite sensor noise
+  // (50 mm: several sigma of the Kinect-like noise at 2 m, docs/sim.md), while a hand above
+  // the table still hides the shadow.
+  float depth_offset_mm = 0.f;
 };
 
 struct VirtualObject {
@@ -33,6 +60,9 @@ struct VirtualObject {
   Pose T_world_object;
   double scale = 1.0;  // uniform, > 0
   Material material;
+  // The light around the object (world frame): needed by every shading but Lambert. Shared
+  // between objects lit by the same keyframe; uploaded and prefiltered once per instance.
+  std::shared_ptr<const Environment> environment;
 };
 
 struct Camera {
@@ -40,9 +70,17 @@ struct Camera {
   Pose T_world_camera;           // camera frame: OpenCV (x right, y down, z forward)
 };
 
+enum class ColourOutput {
+  Display8,     // `color`: gamma 2.2 of radiance x exposure, alpha = coverage (255 or 0)
+  LinearFloat,  // `radiance`: linear radiance (RGBA32F target), alpha = coverage (1 or 0)
+};
+
 struct RenderTarget {
-  ImageRGBA8 color;  // gamma 2.2 display colour, alpha = coverage (255 or 0)
-  ImageF depth_mm;   // distance along the optical axis (camera z), mm; 0 where no object
+  ColourOutput output = ColourOutput::Display8;  // which colour image render() writes
+  float exposure = 1.f;  // Display8 only: radiance is scaled by this before gamma and clamping
+  ImageRGBA8 color;      // Display8; left as it is under LinearFloat
+  ImageRGBAF radiance;   // LinearFloat (the HDR compositor's input); left as it is otherwise
+  ImageF depth_mm;       // distance along the optical axis (camera z), mm; 0 where no object
 };
 
 struct RendererConfig {
@@ -52,6 +90,7 @@ struct RendererConfig {
   // A placeholder until image-based lighting takes the light from the fisheye.
   Eigen::Vector3d light_direction_world{-0.5, -0.3, 0.8};
   float ambient = 0.3f;
+  PrefilterConfig prefilter;  // the rough metal's prefiltered levels (environment_map.hpp)
 };
 
 // The OpenGL projection for pinhole intrinsics, exactly (docs/rendering.md derives it): a
@@ -73,27 +112,52 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  // Draws `objects` and reads colour and depth back into `out`, whose images are resized only
-  // when the intrinsics' size changes. Meshes are uploaded once and kept while their
-  // shared_ptr lives.
+  // Draws `objects` and reads colour (out.output says which image) and depth back into `out`,
+  // whose images are resized only when the intrinsics' size changes. Meshes and environments
+  // are uploaded (environments prefiltered) on first use and kept while their shared_ptr
+  // lives. Throws std::invalid_argument for an object without mesh, with a bad scale, or
+  // without the environment or transfer its material needs.
   void render(const Camera& camera, const std::vector<VirtualObject>& objects, RenderTarget& out);
+
+  // Uploads and prefilters `environment` now instead of at its first render(), so that the
+  // cost lands where the caller chooses (right after a light update, say). Does not wait.
+  void prepare(const std::shared_ptr<const Environment>& environment);
+  // A level of an environment's radiance or specular texture as radiance (tests, debugging;
+  // blocks).
+  Cubemap read_environment(const std::shared_ptr<const Environment>& environment,
+                           EnvironmentLayer layer, int level);
+  // Waits until the GL work issued so far has finished (timing).
+  void finish();
 
   const EglContext& context() const { return *context_; }
   const RendererConfig& config() const { return config_; }
 
  private:
   struct GpuMesh;
+  struct GpuEnvironment;
   struct Program;
   static std::unique_ptr<Program> make_program(Material::Shading shading);
+  const Program& program(Material::Shading shading);
   const GpuMesh& upload(const std::shared_ptr<const Mesh>& mesh);
-  void resize(int width, int height);
+  const EnvironmentTexture& upload(const std::shared_ptr<const Environment>& environment);
+  GLuint split_sum_texture();
+  void set_material_uniforms(const Program& prog, const VirtualObject& object,
+                             const EnvironmentTexture* environment);
+  void resize(int width, int height, ColourOutput output);
+  // Forgets meshes and environments whose shared_ptr is gone (keeping one texture's storage).
+  void drop_expired();
   void read_back(RenderTarget& out);
 
   RendererConfig config_;
   std::unique_ptr<EglContext> context_;
-  std::vector<std::unique_ptr<Program>> programs_;  // indexed by Material::Shading
+  std::vector<std::unique_ptr<Program>> programs_;  // by Material::Shading, made on first use
   std::map<const Mesh*, std::unique_ptr<GpuMesh>> meshes_;
+  std::unique_ptr<EnvironmentPrefilter> prefilter_;
+  std::map<const Environment*, std::unique_ptr<GpuEnvironment>> environments_;
+  EnvironmentTexture spare_environment_;  // an expired one's storage, reused by the next
+  GlTexture split_sum_;                   // RG16F table (split_sum.hpp), made on first use
   int width_ = 0, height_ = 0;
+  ColourOutput output_ = ColourOutput::Display8;
   GlFramebuffer framebuffer_;
   GlRenderbuffer colour_buffer_, depth_mm_buffer_, z_buffer_;
   bool read_depth_as_red_ = false;  // else as RGBA floats through depth_scratch_

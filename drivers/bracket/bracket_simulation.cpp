@@ -8,7 +8,9 @@
 namespace probeless {
 namespace {
 
-double luminance(const float* p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+double luminance(const float* p) {
+  return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2];
+}
 
 double quantile(std::vector<double>& v, double q) {
   if (v.empty()) return 0.0;
@@ -57,33 +59,51 @@ ImageRGB16 simulate_capture(const ImageRGBF& radiance, const Exposure& exposure,
 }
 
 ImageRGBF merge_bracket(std::span<const BracketFrame> frames, const SimulatedCameraModel& camera,
-                        ImageGray8* measured) {
+                        ImageGray8* measured, MergeWeights weights) {
   if (frames.empty()) throw std::invalid_argument("merge_bracket: no frames");
   const int w = frames[0].raw.width(), h = frames[0].raw.height();
-  const int full = camera.full_scale();
-  const double range = full - camera.black_level;
-  ImageRGBF out(w, h);
-  if (measured) *measured = ImageGray8(w, h, 255);
-  const std::size_t n = out.pixel_count();
-  std::vector<double> sum(n * 3, 0.0), weight(n * 3, 0.0);
-  for (const auto& f : frames) {
+  for (const auto& f : frames)
     if (f.raw.width() != w || f.raw.height() != h)
       throw std::invalid_argument("merge_bracket: frame sizes differ");
-    const double inv_e = 1.0 / (f.stamp.exposure.value() * camera.scale);
-    const std::uint16_t* p = f.raw.data();
-    for (std::size_t i = 0; i < n * 3; ++i) {
-      const int v = p[i];
-      if (v >= full || v <= camera.black_level) continue;  // saturated or zero: no value
-      const double x = (v - camera.black_level) / range;
-      const double wgt = x < 0.5 ? x : 1.0 - x;  // the hat S(x), thesis ch. 5 best score
-      sum[i] += wgt * (v - camera.black_level) * inv_e;
-      weight[i] += wgt;
+  const int full = camera.full_scale();
+  const double range = full - camera.black_level;
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 3;
+
+  // One weighted pass; `weight_of(frame, i, x)` gives a usable sample's weight.
+  auto merge = [&](auto&& weight_of) {
+    std::vector<double> sum(n, 0.0), weight(n, 0.0);
+    for (const auto& f : frames) {
+      const double inv_e = 1.0 / (f.stamp.exposure.value() * camera.scale);
+      const std::uint16_t* p = f.raw.data();
+      for (std::size_t i = 0; i < n; ++i) {
+        const int v = p[i];
+        if (v >= full || v <= camera.black_level) continue;  // saturated or zero: no value
+        const double wgt = weight_of(f, i, (v - camera.black_level) / range);
+        sum[i] += wgt * (v - camera.black_level) * inv_e;
+        weight[i] += wgt;
+      }
     }
+    for (std::size_t i = 0; i < n; ++i) sum[i] = weight[i] > 0 ? sum[i] / weight[i] : -1.0;
+    return sum;  // the estimate, -1 where no sample was usable
+  };
+  std::vector<double> estimate =
+      merge([](const BracketFrame&, std::size_t, double x) { return x < 0.5 ? x : 1.0 - x; });
+  if (weights == MergeWeights::NoiseOptimal) {
+    const std::vector<double> first = estimate;
+    const double read_var = camera.read_noise_dn * camera.read_noise_dn + 1.0 / 12.0;
+    estimate = merge([&](const BracketFrame& f, std::size_t i, double) {
+      const double ek = f.stamp.exposure.value() * camera.scale;
+      const double dn_per_e = f.stamp.exposure.gain() * range / camera.full_well_e;
+      const double s = std::max(0.0, first[i]) * ek;
+      return ek * ek / (s * dn_per_e + read_var);
+    });
   }
+  ImageRGBF out(w, h);
+  if (measured) *measured = ImageGray8(w, h, 255);
   float* o = out.data();
-  for (std::size_t i = 0; i < n * 3; ++i) {
-    if (weight[i] > 0) {
-      o[i] = static_cast<float>(sum[i] / weight[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (estimate[i] >= 0) {
+      o[i] = static_cast<float>(estimate[i]);
     } else if (measured) {
       measured->data()[i / 3] = 0;
     }
@@ -98,6 +118,8 @@ HdrEvalReport evaluate_bracketing(const ImageRGBF& radiance, const HdrEvalOption
     throw std::invalid_argument("eval hdr: merge cycles must be in [1, cycles)");
   HdrEvalReport r;
   r.bits = opts.bits;
+  r.merge_cycles = opts.merge_cycles;
+  r.weights = opts.weights;
   SimulatedCameraModel camera = SimulatedCameraModel::for_bits(opts.bits);
   if (opts.full_well_e > 0) camera.full_well_e = opts.full_well_e;
   if (opts.read_noise_dn >= 0) camera.read_noise_dn = opts.read_noise_dn;
@@ -159,7 +181,7 @@ HdrEvalReport evaluate_bracketing(const ImageRGBF& radiance, const HdrEvalOption
   r.high_exposure = seq.exposure_value(r.high_stop);
 
   ImageGray8 measured;
-  const ImageRGBF merged = merge_bracket(last, camera, &measured);
+  const ImageRGBF merged = merge_bracket(last, camera, &measured, opts.weights);
   std::vector<double> err;
   err.reserve(n);
   std::size_t measurable = 0;

@@ -92,6 +92,18 @@ TEST(Service, ServesStreamSnapshotAndStatusThenStopsOnSigterm) {
   EXPECT_GE(light["keyframes"].get<int>(), 1);
   EXPECT_EQ(light["frames_without_pose"], 0) << "the sim's frames carry their rig pose";
   for (int c = 0; c < 3; ++c) EXPECT_GT(light["mean_radiance"][c].get<double>(), 0.0);
+  // Snapshots for the renderer, with the colour camera's exposure in the same units (#6).
+  ASSERT_TRUE(wait_status(
+      port,
+      [](const auto& s) {
+        return s["light"].contains("colour_exposure") && s["light"]["colour_exposure"]["valid"];
+      },
+      60s))
+      << get_status(port)["light"].dump();
+  const auto lit = get_status(port)["light"];
+  EXPECT_GE(lit["snapshot"]["version"].get<int>(), 1);
+  EXPECT_GE(lit["snapshot"]["keyframe"].get<int>(), 0);
+  for (int c = 0; c < 3; ++c) EXPECT_GT(lit["colour_exposure"]["e"][c].get<double>(), 0.0);
 
   JpegDecoder decoder;
   MjpegReader stream(port);

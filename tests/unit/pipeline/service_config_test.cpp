@@ -12,9 +12,13 @@ namespace {
 TEST(ServiceConfig, EmptyTextGivesTheBuiltInDefault) {
   const ServiceConfig c = parse_service_config("");
   EXPECT_EQ(c.source, "sim");
-  ASSERT_EQ(c.objects.size(), 1u);
-  EXPECT_EQ(c.objects[0].shape, "pawn");
-  EXPECT_FALSE(c.objects[0].position.has_value());
+  // Issue #6's demo: a mirror sphere and a self-shadowed pawn on the table, and its ground.
+  ASSERT_EQ(c.objects.size(), 2u);
+  EXPECT_EQ(c.objects[0].shape, "sphere");
+  EXPECT_EQ(c.objects[0].material, "mirror");
+  EXPECT_EQ(c.objects[1].shape, "pawn");
+  EXPECT_EQ(c.objects[1].material, "prt");
+  EXPECT_TRUE(c.ground.enabled);
   EXPECT_EQ(c.http_address, "127.0.0.1");
   EXPECT_EQ(c.http_port, 8080);
 }
@@ -28,8 +32,16 @@ shape = "sphere"
 position = [1.0, 2.0, 0.75]
 scale = 0.1
 color = [0.9, 0.9, 0.9]
+material = "metal"
+roughness = 0.6
 [[object]]
 model = "duck.gltf"
+material = "glass"
+ior = 1.33
+[ground]
+height_m = 0.7
+size_m = 1.5
+albedo = [0.5, 0.4, 0.3]
 [occlusion]
 method = "direct2"
 [http]
@@ -60,7 +72,17 @@ room_max = [2.5, 3.0, 2.4]
   ASSERT_TRUE(c.objects[0].position.has_value());
   EXPECT_DOUBLE_EQ(c.objects[0].position->z(), 0.75);
   EXPECT_DOUBLE_EQ(c.objects[0].scale, 0.1);
+  EXPECT_EQ(c.objects[0].material, "metal");
+  EXPECT_DOUBLE_EQ(c.objects[0].roughness, 0.6);
+  EXPECT_FALSE(c.objects[0].position == std::nullopt);
   EXPECT_EQ(c.objects[1].model, "duck.gltf");
+  EXPECT_EQ(c.objects[1].material, "glass");
+  EXPECT_DOUBLE_EQ(c.objects[1].ior, 1.33);
+  EXPECT_FALSE(c.objects[1].position.has_value());  // the table anchor, at scene building
+  ASSERT_TRUE(c.ground.height_m.has_value());
+  EXPECT_DOUBLE_EQ(*c.ground.height_m, 0.7);
+  EXPECT_DOUBLE_EQ(c.ground.size_m, 1.5);
+  EXPECT_FLOAT_EQ(c.ground.albedo.x(), 0.5f);
   EXPECT_EQ(c.occlusion_method, "direct2");
   EXPECT_EQ(c.http_port, 9000);
   EXPECT_EQ(c.output_format, "png");
@@ -106,6 +128,7 @@ TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[bracket]\nenabled = 1\n"), ParseError);
   EXPECT_THROW(parse_service_config("[bracket]\nmains = 50\n"), ParseError);
   EXPECT_THROW(parse_service_config("[light]\nface_size = 4\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nface_size = 80\n"), ParseError);  // not x32
   EXPECT_THROW(parse_service_config("[light]\nkeyframe_distance_m = 0\n"), ParseError);
   EXPECT_THROW(parse_service_config("[light]\nroom = \"cube\"\n"), ParseError);
   EXPECT_THROW(parse_service_config("[light]\nroom = \"box\"\nroom_min = [0, 0, 0]\n"), ParseError);
@@ -116,6 +139,12 @@ TEST(ServiceConfig, BadValuesAreErrors) {
                ParseError);  // a box without room = "box"
   EXPECT_EQ(parse_service_config("[light]\nroom = \"sim\"\n").light_room, "sim");
   EXPECT_EQ(parse_service_config("").light_room, "off");
+  EXPECT_THROW(parse_service_config("[[object]]\nmaterial = \"velvet\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[[object]]\nroughness = 1.5\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[[object]]\nior = 0\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[ground]\nsize_m = 0\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[ground]\nalbedo = [0.5, 2, 0.5]\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[ground]\nheight = 1\n"), ParseError);
 }
 
 // The configuration the package installs runs the sim with its room box for parallax.

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <numbers>
@@ -214,6 +216,97 @@ TEST(ShRotation, RotatesTheFunction) {
     EXPECT_LT((same.c[static_cast<std::size_t>(i)] - f.c[static_cast<std::size_t>(i)]).norm(),
               1e-12);
   EXPECT_EQ(rotate_sh(f, R).c[0], f.c[0]);  // band 0 is invariant
+}
+
+ShRgb random_sh(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  ShRgb f;
+  for (auto& c : f.c) c = {u(rng), u(rng), u(rng)};
+  return f;
+}
+
+double max_difference(const ShRgb& a, const ShRgb& b) {
+  double worst = 0;
+  for (int i = 0; i < kShMaxCount; ++i)
+    worst = std::max(worst,
+                     (a.c[static_cast<std::size_t>(i)] - b.c[static_cast<std::size_t>(i)]).norm());
+  return worst;
+}
+
+// Turning by A then by B is turning by B A; each band's block is orthogonal (rotations keep
+// the function's energy, band by band) and the bands do not mix.
+TEST(ShRotation, ComposesAndIsOrthogonalBlockDiagonal) {
+  std::mt19937 rng(11);
+  const ShRgb f = random_sh(rng);
+  const Eigen::Matrix3d A =
+      Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d B =
+      Eigen::AngleAxisd(-2.3, Eigen::Vector3d(-0.4, 0.1, 0.9).normalized()).toRotationMatrix();
+  EXPECT_LT(max_difference(rotate_sh(rotate_sh(f, A), B), rotate_sh(f, Eigen::Matrix3d(B * A))),
+            1e-10);
+  EXPECT_LT(max_difference(rotate_sh(rotate_sh(f, A), Eigen::Matrix3d(A.transpose())), f),
+            1e-10);  // inverse
+  const ShRotation m = sh_rotation(B);
+  EXPECT_LT((m * m.transpose() - ShRotation::Identity()).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT((sh_rotation(B * A) - sh_rotation(B) * sh_rotation(A)).cwiseAbs().maxCoeff(), 1e-10);
+  for (int i = 0; i < kShMaxCount; ++i)
+    for (int j = 0; j < kShMaxCount; ++j) {
+      const int li = static_cast<int>(std::sqrt(i)), lj = static_cast<int>(std::sqrt(j));
+      if (li != lj) {
+        ASSERT_EQ(m(i, j), 0.0) << i << "," << j;
+      }
+    }
+  EXPECT_LT(max_difference(apply_sh_rotation(f, m), rotate_sh(f, B)), 1e-15);
+  EXPECT_LT(
+      (sh_rotation(Eigen::Matrix3d::Identity()) - ShRotation::Identity()).cwiseAbs().maxCoeff(),
+      1e-12);
+  // Band 1 is the direction itself: (y, z, x) turn by R written in that order.
+  const Eigen::Vector3d axis(0, 0, 1);
+  const ShRotation quarter = sh_rotation(Eigen::AngleAxisd(kPi / 2, axis).toRotationMatrix());
+  // A quarter turn about z takes x to y: the x coefficient (index 3) moves to y (index 1).
+  EXPECT_NEAR(quarter(1, 3), 1.0, 1e-12);
+  EXPECT_NEAR(quarter(3, 1), -1.0, 1e-12);
+  EXPECT_NEAR(quarter(2, 2), 1.0, 1e-12);
+}
+
+// Projection commutes with rotation: projecting the turned environment gives the turned
+// coefficients. The environment is not band-limited (a soft sun plus a gradient), so this
+// also holds for the truncation, not only for exact polynomials; the residue is the cube
+// quadrature's.
+TEST(ShRotation, ProjectingTheRotatedMapEqualsRotatingTheProjection) {
+  const Eigen::Vector3d sun = Eigen::Vector3d(0.3, -0.5, 0.8).normalized();
+  auto sky = [&](const Eigen::Vector3d& d) {
+    const double s = std::exp(8.0 * (d.dot(sun) - 1.0));
+    return Eigen::Vector3d(0.2 + 3 * s + 0.1 * d.z(), 0.3 + 2 * s, 0.4 + s - 0.1 * d.x());
+  };
+  const Eigen::Matrix3d R =
+      Eigen::AngleAxisd(2.0, Eigen::Vector3d(0.5, 0.5, -0.7).normalized()).toRotationMatrix();
+  const int n = 64;
+  const ShRgb projected_then_rotated = rotate_sh(project_sh(cubemap_of(n, sky)), R);
+  const ShRgb rotated_then_projected =
+      project_sh(cubemap_of(n, [&](const Eigen::Vector3d& d) { return sky(R.transpose() * d); }));
+  const double scale = project_sh(cubemap_of(n, sky)).c[0].norm();
+  EXPECT_LT(max_difference(projected_then_rotated, rotated_then_projected), 1e-3 * scale);
+  // And not trivially: the rotation changed the coefficients a lot.
+  EXPECT_GT(max_difference(projected_then_rotated, project_sh(cubemap_of(n, sky))), 0.1 * scale);
+}
+
+// Not a timed test: the cost of one rotation (the PRT material pays it per object and frame).
+//   build/release/tests/test_unit_sh --gtest_also_run_disabled_tests --gtest_filter='*Bench*'
+TEST(ShRotation, DISABLED_Bench) {
+  std::mt19937 rng(1);
+  const ShRgb f = random_sh(rng);
+  constexpr int kCount = 20000;
+  double sink = 0;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < kCount; ++i)
+    sink += rotate_sh(f, Eigen::Matrix3d(Eigen::AngleAxisd(0.001 * i, Eigen::Vector3d::UnitZ())))
+                .c[5]
+                .x();
+  const double us =
+      std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() /
+      kCount;
+  std::printf("sh rotation bench: %.2f us per rotate_sh (5 bands, RGB) (%g)\n", us, sink);
 }
 
 // Ramamoorthi & Hanrahan's Uffizi coefficients (as published in full precision in the Orange
