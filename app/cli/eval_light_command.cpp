@@ -17,6 +17,7 @@ struct Options {
   std::string source = "sim";
   std::string json;
   std::string rule = "kalman";
+  std::string parallax = "on";
   light::LightEvalOptions eval;
 };
 
@@ -59,6 +60,9 @@ void run(Options& o) {
     o.eval.estimator.update.rule = envmap::UpdateRule::BestScore;
   else
     throw CommandError("eval light: --rule is kalman or best_score");
+  if (o.parallax != "on" && o.parallax != "off")
+    throw CommandError("eval light: --parallax is on or off");
+  o.eval.room_box = o.parallax == "on";
   light::LightEvalReport r;
   try {
     r = light::evaluate_light_sim(o.eval);
@@ -69,7 +73,12 @@ void run(Options& o) {
       "eval light: {} fisheye frames ({} s of sim time), rule {}, {} keyframe(s); keyframe "
       "{} is {:.2f} m from the object; radiance scale {:.4f} (exact, from the sim's sensor)\n",
       r.frames, o.eval.seconds, r.rule, r.keyframes, r.keyframe_id, r.keyframe_distance_m, r.scale);
+  std::cout << fmt::format("  parallax: {}\n", r.room_box ? "room box (the sim's room), keyframe "
+                                                            "reprojected to where it is compared"
+                                                          : "off (distant light)");
   print("the truth at the object (FrameTruth::light)", r.at_probe);
+  if (r.room_box)
+    print("the truth at the object, keyframe not reprojected", r.at_probe_unreprojected);
   print("the truth at the keyframe's position", r.at_keyframe);
   print(fmt::format("the truth at the fisheye's last position ({:.2f} m from the keyframe's)",
                     r.keyframe_to_last_capture_m),
@@ -86,7 +95,9 @@ void run(Options& o) {
                            {"keyframe_distance_m", r.keyframe_distance_m},
                            {"radiance_scale", r.scale},
                            {"settle_cycles", r.settle_cycles},
+                           {"parallax", r.room_box ? "room_box" : "off"},
                            {"at_probe", comparison_json(r.at_probe)},
+                           {"at_probe_unreprojected", comparison_json(r.at_probe_unreprojected)},
                            {"at_keyframe", comparison_json(r.at_keyframe)},
                            {"at_last_capture", comparison_json(r.at_last_capture)},
                            {"keyframe_to_last_capture_m", r.keyframe_to_last_capture_m},
@@ -108,11 +119,16 @@ void add_eval_light_command(CLI::App& eval) {
   cmd->add_option("--seconds", o->eval.seconds, "Sim time to run")->capture_default_str();
   cmd->add_option("--sim", o->eval.sim_spec, "Extra sim options (seed=2,fisheye_size=1024,...)");
   cmd->add_option("--rule", o->rule, "Texel update: kalman or best_score")->capture_default_str();
+  cmd->add_option("--parallax", o->parallax,
+                  "on: the sim's room box in the update, keyframes reprojected to the "
+                  "object and the last capture; off: distant light")
+      ->capture_default_str();
   cmd->add_option("--face-size", o->eval.estimator.keyframes.face_size, "Keyframe face size")
       ->capture_default_str();
   cmd->add_option("--json", o->json, "Write the report as JSON");
   cmd->add_option("--dump", o->eval.dump_dir,
-                  "Write DIR/compare.png: estimate, truth at the object, truth at the keyframe");
+                  "Write DIR/compare.png: keyframe | truth there, reprojected to the object | "
+                  "truth there, reprojected to the last capture | truth there");
   cmd->callback([o] { run(*o); });
 }
 

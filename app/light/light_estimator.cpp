@@ -5,6 +5,8 @@
 #include <ctime>
 #include <string>
 
+#include "kernels/envmap/keyframe_reprojection.hpp"
+
 namespace probeless::light {
 
 namespace {
@@ -40,13 +42,13 @@ LightEstimator::LightEstimator(ComputeContext& ctx, const KannalaBrandtParams& f
       fisheye_(fisheye),
       T_rig_fisheye_(T_rig_fisheye),
       config_(config),
-      hdr_(ctx, with_circle(config.hdr, fisheye)),
       keyframes_(ctx, config.keyframes),
-      update_(ctx, config.update),
+      update_(ctx, config.update, with_circle(config.hdr, fisheye)),
       push_pull_(ctx),
       downsample_(ctx),
       projector_(config.sh_face_size) {
   stats_.keep_all(true);
+  if (config_.room) envmap::validate(*config_.room);
 }
 
 const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
@@ -66,21 +68,27 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
     cpu = cpu_now;
   };
 
-  raw_.upload(ctx_.queue(), frame.raw, false);
+  // The update reads ~40 % of the frame's pixels, scattered: wrapping the frame's own memory
+  // (no copy on PoCL and on boards whose GPU shares it) saved the 6 MB copy, 0.5-0.7 ms
+  // (docs/performance.md "Light capture: bench light").
+  raw_ = DeviceImage<std::uint16_t, 3>::wrap_host(ctx_.context(), frame.raw);
   lap("upload");
-  hdr_.convert(raw_, frame.bit_depth, frame.black_level, frame.exposure.exposure, converted_);
-  lap("convert");
 
-  // Rotation only: the environment is taken as distant, so where the fisheye is inside the
-  // keyframe's neighbourhood does not move the texels (docs/light-capture.md "Limits").
+  // Without a room box the environment is taken as distant, so where the fisheye is inside
+  // the keyframe's neighbourhood does not move the texels; with one, texels are points on its
+  // walls seen from the keyframe's position (docs/light-capture.md "Parallax").
   const Pose T_world_fisheye = T_world_rig * T_rig_fisheye_;
   envmap::Keyframe& keyframe = keyframes_.for_capture(T_world_fisheye.translation);
   envmap::FisheyeView view;
   view.camera = fisheye_;
   view.R_camera_world = T_world_fisheye.rotation.toRotationMatrix().transpose();
+  view.room = config_.room;
+  view.position = T_world_fisheye.translation;
+  view.keyframe_position = keyframe.position;
   const bool bracketing = frame.exposure.level != BracketLevel::Fixed;
   const bool publish = !bracketing || frame.exposure.cycle_position == 3;
-  update_.update(converted_, view, publish, keyframe.texels, keyframe.pending);
+  update_.update_raw(raw_, frame.bit_depth, frame.black_level, frame.exposure.exposure, view,
+                     publish, keyframe.texels, keyframe.pending);
   ++keyframe.updates;
   lap("update");
 
@@ -89,12 +97,26 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
 
   downsample_.run(keyframe.texels, config_.sh_face_size, small_);
   small_.download(ctx_.queue(), small_host_);  // blocking: waits for the whole queue
-  sh_ = projector_.project(small_host_);
+  if (config_.room && config_.sh_position) {
+    // Seen from the object: the reprojection folded into the projection table, built the
+    // first time a keyframe is used (keyframes never move).
+    auto it = reprojected_.find(keyframe.id);
+    if (it == reprojected_.end())
+      it = reprojected_
+               .emplace(keyframe.id,
+                        ShProjector(config_.sh_face_size,
+                                    envmap::reprojection_constants(config_.room, keyframe.position,
+                                                                   *config_.sh_position)))
+               .first;
+    sh_ = it->second.project(small_host_);
+  } else {
+    sh_ = projector_.project(small_host_);
+  }
   lap("sh");
   stats_.record("total", std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   stats_.record("cpu:total", process_cpu_ms() - cpu0);
-  // The raw upload is non-blocking: frame.raw must outlive it, and the blocking download
-  // above has drained the queue by now.
+  // raw_ reads frame.raw in place: the blocking download above has drained the queue, so
+  // nothing uses it after this returns.
   return keyframe;
 }
 

@@ -1,9 +1,11 @@
 #pragma once
-// The light model, per fisheye frame (thesis ch. 5-6; docs/light-capture.md): HDR conversion
-// of the raw frame, the keyframe for the fisheye's position (KeyframeSet), the texel update
-// through the camera model and the rig rotation, push-pull of unobserved texels, and the SH
-// of the updated keyframe. Keeps per-stage timings.
+// The light model, per fisheye frame (thesis ch. 5-6; docs/light-capture.md): the keyframe
+// for the fisheye's position (KeyframeSet), the texel update through the camera model and the
+// rig pose (converting only the raw pixels it reads), push-pull of unobserved texels, and the
+// SH of the updated keyframe. Keeps per-stage timings.
+#include <map>
 #include <memory>
+#include <optional>
 
 #include "app/light/sh_projector.hpp"
 #include "app/pipeline/stage_stats.hpp"
@@ -21,9 +23,16 @@ namespace probeless::light {
 struct LightEstimatorConfig {
   envmap::KeyframeConfig keyframes;
   envmap::UpdateParams update;
-  // Its image circle, when left at radius 0, is the fisheye model's (max_theta).
+  // The conversion of the raw samples; its image circle, when left at radius 0, is the fisheye
+  // model's (max_theta).
   HdrConversionParams hdr;
-  int sh_face_size = 32;  // the keyframe is box-averaged to this before the SH projection
+  // Parallax with a room proxy (docs/light-capture.md "Parallax"); none: distant light.
+  std::optional<envmap::RoomBox> room;
+  // With a room: the SH is of the keyframe reprojected to this point (the object's), not of
+  // the keyframe as seen from its own position.
+  std::optional<Eigen::Vector3d> sh_position;
+  // The keyframe is box-averaged (or reprojected) to this before the SH projection.
+  int sh_face_size = 32;
   // Wait for the queue after each stage so that stats() holds each stage's time (what
   // `bench light` reports); false: one wait, at the SH download.
   bool time_stages = true;
@@ -40,29 +49,31 @@ class LightEstimator {
   // when the trajectory does not cover it.
   bool process(const FisheyeFrame& frame, const Trajectory& rig);
 
-  // SH (5 bands) of the keyframe last updated, after push-pull.
+  // SH (5 bands) of the keyframe last updated, after push-pull; seen from sh_position when
+  // that and a room are configured.
   const ShRgb& sh() const { return sh_; }
   const envmap::KeyframeSet& keyframes() const { return keyframes_; }
   // Host copy of a keyframe's texels (blocking).
   envmap::ImageRGBAF download(const envmap::Keyframe& keyframe);
-  // Stages: upload, convert, update, push_pull, sh; and total. Each also as "cpu:NAME": the
-  // process's CPU time (all threads) over the stage.
+  // Stages: upload, update (conversion included), push_pull, sh; and total. Each also as
+  // "cpu:NAME": the process's CPU time (all threads) over the stage.
   StageStats& stats() { return stats_; }
-  const DeviceImage<float, 4>& converted() const { return converted_; }
+  // Switches LightEstimatorConfig::time_stages between frames (bench light alternates).
+  void set_time_stages(bool on) { config_.time_stages = on; }
 
  private:
   ComputeContext& ctx_;
   KannalaBrandtParams fisheye_;
   Pose T_rig_fisheye_;
   LightEstimatorConfig config_;
-  HdrConversion hdr_;
   envmap::KeyframeSet keyframes_;
   envmap::EnvmapUpdate update_;
   envmap::PushPull push_pull_;
   envmap::EnvmapDownsample downsample_;
   ShProjector projector_;
+  // With a room and sh_position: per keyframe id, the table of its SH seen from there.
+  std::map<int, ShProjector> reprojected_;
   DeviceImage<std::uint16_t, 3> raw_;
-  DeviceImage<float, 4> converted_;
   DeviceImage<float, 4> small_;
   envmap::ImageRGBAF small_host_;
   ShRgb sh_;

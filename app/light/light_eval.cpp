@@ -6,13 +6,14 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "app/light/room_proxy.hpp"
 #include "core/exposure_count.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 #include "drivers/io/png.hpp"
 #include "drivers/sim/sim_renderer.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "drivers/sim/sim_world.hpp"
-#include "kernels/envmap/envmap_downsample.hpp"
+#include "kernels/envmap/keyframe_reprojection.hpp"
 
 namespace probeless::light {
 
@@ -74,9 +75,10 @@ envmap::ImageRGBAF render_truth(const std::shared_ptr<const sim::SimWorld>& worl
   return out;
 }
 
-// Strips of m x 6m side by side, 4x enlarged, log10 radiance from -1 to 4.5 over 0..255.
-void write_comparison(const std::string& path, const std::vector<const envmap::ImageRGBAF*>& strips,
-                      const std::vector<bool>& observed) {
+// Strips of m x 6m side by side, 4x enlarged, log10 radiance from -1 to 4.5 over 0..255;
+// texels whose alpha is 0 darkened.
+void write_comparison(const std::string& path,
+                      const std::vector<const envmap::ImageRGBAF*>& strips) {
   const int m = envmap::face_size_of(*strips[0]), z = 4, gap = 4;
   const int w = static_cast<int>(strips.size()) * (m * z + gap);
   ImageRGB8 out(w, 6 * m * z);
@@ -84,7 +86,7 @@ void write_comparison(const std::string& path, const std::vector<const envmap::I
     for (int y = 0; y < 6 * m * z; ++y)
       for (int x = 0; x < m * z; ++x) {
         const int tx = x / z, ty = y / z;
-        const bool seen = observed[static_cast<std::size_t>(ty * m + tx)];
+        const bool seen = strips[s]->at(tx, ty, 3) > 0;
         for (int c = 0; c < 3; ++c) {
           const double v = std::log10(std::max(1e-3F, strips[s]->at(tx, ty, c)));
           double g = std::clamp((v + 1.0) / 5.5, 0.0, 1.0) * 255.0;
@@ -93,6 +95,51 @@ void write_comparison(const std::string& path, const std::vector<const envmap::I
         }
       }
   write_png(path, out);
+}
+
+// Where the RMSE comes from: per texel |est - truth|^2 (RGB) as a share of the comparison's
+// sum of |truth|^2, on a log scale from 1e-5 (black) to 1e-1 (white) of it, one strip per
+// comparison; unobserved texels blue.
+void write_error(
+    const std::string& path,
+    const std::vector<std::pair<const envmap::ImageRGBAF*, const envmap::ImageRGBAF*>>& pairs) {
+  const int m = envmap::face_size_of(*pairs[0].first), z = 4, gap = 4;
+  ImageRGB8 out(static_cast<int>(pairs.size()) * (m * z + gap), 6 * m * z);
+  for (std::size_t s = 0; s < pairs.size(); ++s) {
+    const envmap::ImageRGBAF &est = *pairs[s].first, &truth = *pairs[s].second;
+    double den = 0;
+    for (int y = 0; y < 6 * m; ++y)
+      for (int x = 0; x < m; ++x)
+        if (est.at(x, y, 3) > 0)
+          for (int c = 0; c < 3; ++c)
+            den += static_cast<double>(truth.at(x, y, c)) * truth.at(x, y, c);
+    for (int y = 0; y < 6 * m * z; ++y)
+      for (int x = 0; x < m * z; ++x) {
+        const int tx = x / z, ty = y / z;
+        std::uint8_t* px = &out.at(static_cast<int>(s) * (m * z + gap) + x, y, 0);
+        if (!(est.at(tx, ty, 3) > 0)) {
+          px[2] = 96;
+          continue;
+        }
+        double e2 = 0;
+        for (int c = 0; c < 3; ++c) {
+          const double e = est.at(tx, ty, c) - truth.at(tx, ty, c);
+          e2 += e * e;
+        }
+        const double share = den > 0 ? e2 / den : 0;
+        const double g = std::clamp((std::log10(std::max(share, 1e-12)) + 5.0) / 4.0, 0.0, 1.0);
+        px[0] = px[1] = px[2] = static_cast<std::uint8_t>(g * 255.0);
+      }
+  }
+  write_png(path, out);
+}
+
+std::vector<bool> observed_of(const envmap::ImageRGBAF& texels) {
+  std::vector<bool> observed(texels.pixel_count());
+  for (int y = 0; y < texels.height(); ++y)
+    for (int x = 0; x < texels.width(); ++x)
+      observed[static_cast<std::size_t>(y * texels.width() + x)] = texels.at(x, y, 3) > 0;
+  return observed;
 }
 
 double relative_error(const ShRgb& est, const ShRgb& truth, int count) {
@@ -172,7 +219,9 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
   if (!fisheye) throw std::runtime_error("eval light: the sim's fisheye is not Kannala-Brandt");
 
   ComputeContext ctx;
-  LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, o.estimator);
+  LightEstimatorConfig config = o.estimator;
+  if (o.room_box) config.room = sim_room_box();
+  LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, config);
   BracketSequencer sequencer;
   Trajectory trajectory;  // from the RGB-D stream's truth, as tracking would deliver it
   const auto timeout = std::chrono::milliseconds(5000);
@@ -217,52 +266,73 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
       for (int c = 0; c < 3; ++c) texels.at(x, y, c) *= static_cast<float>(report.scale);
 
   const int m = o.compare_face_size;
-  std::vector<bool> observed;
-  const envmap::ImageRGBAF est = average_observed(texels, m, observed);
-  // SH of the whole keyframe (filled texels included), as the renderer would use it.
-  const ShRgb est_sh = project_sh(envmap::to_cubemap(texels));
-
+  const int n = envmap::face_size_of(texels);
+  if (n % m != 0)
+    throw std::invalid_argument("eval light: the compare size must divide the face size");
   if (!frame.truth || !frame.truth->light) throw std::runtime_error("eval light: no truth light");
   const Cubemap& probe_truth = *frame.truth->light;
   if (probe_truth.face_size != m)
     throw std::runtime_error("eval light: compare_face_size must be the truth's face size");
-  report.at_probe = compare_cubemaps(est, from_cubemap(probe_truth), observed);
-  report.at_probe.truth = "FrameTruth::light (from light_probe_position())";
-  const ShRgb probe_sh = project_sh(probe_truth);
-  report.at_probe.sh25_relative_error = relative_error(est_sh, probe_sh, 25);
-  report.at_probe.sh9_relative_error = relative_error(est_sh, probe_sh, 9);
+  const std::optional<envmap::RoomBox>& room = config.room;
+  report.room_box = room.has_value();
+
+  // An m-px estimate as seen from `where` (the keyframe reprojected through the room box; at
+  // the keyframe's own position, or without a box, its m-px box filter), compared with the
+  // truth there over the texels it observed; SH of both (filled texels included: the SH
+  // covers the sphere, as the renderer would use it).
+  const auto compare = [&](const envmap::ImageRGBAF& est, const envmap::ImageRGBAF& truth,
+                           const std::string& what) {
+    TruthComparison c = compare_cubemaps(est, truth, observed_of(est));
+    c.truth = what;
+    const ShRgb est_sh = project_sh(envmap::to_cubemap(est));
+    const ShRgb truth_sh = project_sh(envmap::to_cubemap(truth));
+    c.sh25_relative_error = relative_error(est_sh, truth_sh, 25);
+    c.sh9_relative_error = relative_error(est_sh, truth_sh, 9);
+    return c;
+  };
+  const auto seen_from = [&](const Eigen::Vector3d& where) {
+    return envmap::reproject_keyframe(texels, keyframe->position, room, where, m, n / m);
+  };
+  std::vector<bool> unused;
+  const envmap::ImageRGBAF est_keyframe = average_observed(texels, m, unused);
+  const envmap::ImageRGBAF est_probe = room ? seen_from(probe) : est_keyframe;
+  const envmap::ImageRGBAF probe_strip = from_cubemap(probe_truth);
+  report.at_probe =
+      compare(est_probe, probe_strip,
+              room ? "FrameTruth::light (from light_probe_position()), keyframe reprojected there"
+                   : "FrameTruth::light (from light_probe_position())");
+  report.at_probe_unreprojected = compare(
+      est_keyframe, probe_strip, "FrameTruth::light, the keyframe's directions as they are");
 
   // The same room from where the keyframe was captured: the capture's own error, without the
   // parallax between the keyframe and the object.
   const auto world = std::make_shared<const sim::SimWorld>(sim_options.seed);
   const double t_last = (frames - 1) / sim_options.fisheye_fps;
-  const envmap::ImageRGBAF at_kf = render_truth(
-      world, keyframe->position, sim::SimWorld::lamp_state(t_last), envmap::face_size_of(texels));
+  const int lamps = sim::SimWorld::lamp_state(t_last);
   std::vector<bool> all_observed;
-  const envmap::ImageRGBAF at_kf_small = average_observed(at_kf, m, all_observed);
-  report.at_keyframe = compare_cubemaps(est, at_kf_small, observed);
-  report.at_keyframe.truth = "the room rendered from the keyframe's position";
+  const envmap::ImageRGBAF truth_keyframe =
+      average_observed(render_truth(world, keyframe->position, lamps, n), m, all_observed);
+  report.at_keyframe =
+      compare(est_keyframe, truth_keyframe, "the room rendered from the keyframe's position");
 
   const Eigen::Vector3d last_capture =
       (*trajectory.at(frame.timestamp_ns) * rig.calibration.T_rig_fisheye).translation;
   report.keyframe_to_last_capture_m = (last_capture - keyframe->position).norm();
-  const envmap::ImageRGBAF at_last = render_truth(
-      world, last_capture, sim::SimWorld::lamp_state(t_last), envmap::face_size_of(texels));
-  const envmap::ImageRGBAF at_last_small = average_observed(at_last, m, all_observed);
-  report.at_last_capture = compare_cubemaps(est, at_last_small, observed);
-  report.at_last_capture.truth = "the room rendered from the fisheye's last position";
-  const ShRgb last_sh = project_sh(envmap::to_cubemap(at_last));
-  report.at_last_capture.sh25_relative_error = relative_error(est_sh, last_sh, 25);
-  report.at_last_capture.sh9_relative_error = relative_error(est_sh, last_sh, 9);
+  const envmap::ImageRGBAF truth_last =
+      average_observed(render_truth(world, last_capture, lamps, n), m, all_observed);
+  const envmap::ImageRGBAF est_last = room ? seen_from(last_capture) : est_keyframe;
+  report.at_last_capture = compare(est_last, truth_last,
+                                   room ? "the room rendered from the fisheye's last position, "
+                                          "keyframe reprojected there"
+                                        : "the room rendered from the fisheye's last position");
 
-  if (!o.dump_dir.empty()) {
-    const envmap::ImageRGBAF probe_strip = from_cubemap(probe_truth);
-    write_comparison(o.dump_dir + "/compare.png",
-                     {&est, &probe_strip, &at_kf_small, &at_last_small}, observed);
-  }
-  const ShRgb kf_sh = project_sh(envmap::to_cubemap(at_kf));
-  report.at_keyframe.sh25_relative_error = relative_error(est_sh, kf_sh, 25);
-  report.at_keyframe.sh9_relative_error = relative_error(est_sh, kf_sh, 9);
+  if (!o.dump_dir.empty())
+    write_comparison(o.dump_dir + "/compare.png", {&est_keyframe, &truth_keyframe, &est_probe,
+                                                   &probe_strip, &est_last, &truth_last});
+  if (!o.dump_dir.empty())
+    write_error(
+        o.dump_dir + "/error.png",
+        {{&est_keyframe, &truth_keyframe}, {&est_probe, &probe_strip}, {&est_last, &truth_last}});
   return report;
 }
 

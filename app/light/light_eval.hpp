@@ -13,9 +13,14 @@ struct LightEvalOptions {
   double seconds = 2.0;  // sim time
   std::string sim_spec;  // extra sim options (after realtime=0)
   LightEstimatorConfig estimator;
+  // Parallax with the sim's room box (estimator.room is set from drivers/sim's geometry), and
+  // the comparisons at other positions through keyframe reprojection; false: distant light,
+  // the keyframe's directions compared as they are.
+  bool room_box = true;
   int compare_face_size = 32;  // the truth cubemap's resolution
-  // Non-empty: write compare.png there (estimate, truth at the object, truth at the keyframe,
-  // faces top to bottom in GL order, log-scaled; unobserved texels darkened).
+  // Non-empty: write compare.png there: the keyframe and the truth at its position, the
+  // keyframe reprojected to the object and the truth there, the same at the last capture;
+  // faces top to bottom in GL order, log-scaled; unobserved texels darkened.
   std::string dump_dir;
 };
 
@@ -39,9 +44,14 @@ struct LightEvalReport {
   double keyframe_distance_m = 0;  // from the keyframe to the light probe position
   double scale = 0;                // converted value -> sim radiance
   std::string rule;
-  TruthComparison at_probe;     // FrameTruth::light, seen from light_probe_position()
-  TruthComparison at_keyframe;  // the same room rendered from the keyframe's position
-  // ... and from the fisheye's last position (the Kalman filter weighs recent frames most)
+  bool room_box = false;  // parallax and reprojection through the sim's room box
+  // FrameTruth::light, seen from light_probe_position(), against the keyframe reprojected
+  // there (with the room box; else the keyframe's directions as they are)
+  TruthComparison at_probe;
+  TruthComparison at_probe_unreprojected;  // ... against the keyframe's directions as they are
+  TruthComparison at_keyframe;             // the same room rendered from the keyframe's position
+  // ... and from the fisheye's last position, against the keyframe reprojected there (the
+  // Kalman filter weighs recent frames most)
   TruthComparison at_last_capture;
   double keyframe_to_last_capture_m = 0;
   int settle_cycles = 0;

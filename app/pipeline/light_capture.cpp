@@ -6,9 +6,11 @@
 #include <chrono>
 
 #include "app/light/light_estimator.hpp"
+#include "app/light/room_proxy.hpp"
 #include "app/light/sh_projector.hpp"
 #include "core/camera/kannala_brandt.hpp"
 #include "drivers/sim/sim_rig.hpp"
+#include "kernels/envmap/keyframe_reprojection.hpp"
 #include "kernels/hdr/colour_exposure.hpp"
 #include "kernels/runtime/compute_context.hpp"
 
@@ -54,6 +56,23 @@ const KannalaBrandtCamera& kannala_brandt(const RigCalibration& calibration) {
   return *kb;
 }
 
+bool is_sim(const std::string& source) {
+  return source == "sim" || source.starts_with("sim:");
+}
+
+// [light] room (docs/configuration.md): the room box parallax takes, if any.
+std::optional<envmap::RoomBox> room_of(const ServiceConfig& c) {
+  if (c.light_room == "box") return envmap::RoomBox{c.light_room_min, c.light_room_max};
+  if (c.light_room == "sim") {
+    if (!is_sim(c.source))
+      throw std::invalid_argument(
+          "light capture: [light] room = \"sim\" needs the sim source, not " + c.source +
+          " (use room = \"box\" with the room's extent)");
+    return light::sim_room_box();
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 struct LightCapture::Estimator {
@@ -66,11 +85,15 @@ struct LightCapture::Estimator {
 LightCapture::LightCapture(const ServiceConfig& config, const RigCalibration& calibration)
     : config_(config), calibration_(calibration), estimator_(std::make_unique<Estimator>()) {
   (void)kannala_brandt(calibration_);  // fail at start, not on the first frame
+  room_ = room_of(config_);
   // The objects are lit from the keyframe nearest to them (thesis ch. 6): their mean position,
   // each placed as scene_objects.cpp places it.
   for (const ObjectConfig& o : config_.objects)
     anchor_ += o.position.value_or(sim::object_anchor());
   if (!config_.objects.empty()) anchor_ /= static_cast<double>(config_.objects.size());
+  // With a room box the light is seen from 10 cm above that (the sim's light_probe_position()
+  // for objects on its table anchor): the centre of a small object, not its foot.
+  light_point_ = anchor_ + Eigen::Vector3d(0, 0, 0.1);
 }
 
 LightCapture::~LightCapture() = default;
@@ -136,6 +159,8 @@ void LightCapture::run(std::stop_token stop, StageStats& stats) {
     lc.keyframes.face_size = config_.light_face_size;
     lc.keyframes.new_keyframe_distance_m = config_.light_keyframe_distance_m;
     lc.time_stages = false;  // one wait per frame; the service reports the whole update
+    lc.room = room_;
+    if (lc.room && !config_.objects.empty()) lc.sh_position = light_point_;
     estimator_->light = std::make_unique<light::LightEstimator>(
         *estimator_->ctx, kannala_brandt(calibration_).params(), calibration_.T_rig_fisheye, lc);
     estimator_->sh = std::make_unique<light::ShProjector>(kShFaceSize);
@@ -225,6 +250,14 @@ void LightCapture::publish(const FisheyeFrame& frame) {
   snap->keyframe_id = keyframe->id;
   snap->position = keyframe->position;
   snap->texels = estimator_->light->download(*keyframe);
+  if (room_) {
+    // The environment as the objects see it (docs/light-capture.md "Parallax"): one bilinear
+    // sample per texel at the keyframe's resolution, on the CPU at the publishing rate.
+    const int n = envmap::face_size_of(snap->texels);
+    snap->texels =
+        envmap::reproject_keyframe(snap->texels, keyframe->position, room_, light_point_, n, 1);
+    snap->position = light_point_;
+  }
   snap->sh = estimator_->sh->project(box_average(snap->texels, kShFaceSize));
   if (estimator_->colour) {
     snap->colour_exposure = estimator_->colour->estimate().e;
@@ -242,9 +275,10 @@ std::shared_ptr<const LightSnapshot> LightCapture::latest_light() const {
 
 nlohmann::json LightCapture::status() const {
   std::lock_guard lock(mutex_);
-  nlohmann::json j = {{"state", state_},         {"frames", processed_},
-                      {"dropped", dropped_},     {"frames_without_pose", without_pose_},
-                      {"keyframes", keyframes_}, {"active_keyframe", active_keyframe_}};
+  nlohmann::json j = {{"state", state_},           {"frames", processed_},
+                      {"dropped", dropped_},       {"frames_without_pose", without_pose_},
+                      {"keyframes", keyframes_},   {"active_keyframe", active_keyframe_},
+                      {"room", config_.light_room}};
   if (sh_) {
     // L00 times Y00 = the mean radiance over the sphere, per channel (up to the constant the
     // HDR conversion leaves).

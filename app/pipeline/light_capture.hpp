@@ -31,7 +31,10 @@ struct LightSnapshot {
   std::uint64_t version = 0;
   TimestampNs timestamp_ns = 0;  // of the newest fisheye frame it includes
   int keyframe_id = -1;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // where the keyframe was captured
+  // Where `texels` are seen from: the keyframe's capture position, or with a room box
+  // ([light] room) the objects' light point, the keyframe reprojected there (alpha 1 where
+  // observed, else 0).
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
   envmap::ImageRGBAF texels;  // n x 6n, envmap_types.hpp layout, after push-pull
   ShRgb sh;                   // 5 bands of `texels`, world frame (z up)
   // Fisheye radiance per unit of the colour camera's linear value, per channel
@@ -85,7 +88,9 @@ class LightCapture {
   std::shared_ptr<const LightSnapshot> snapshot_;
   std::uint64_t snapshot_version_ = 0;
   TimestampNs last_publish_ns_ = 0;
-  Eigen::Vector3d anchor_ = Eigen::Vector3d::Zero();  // the objects' mean position
+  Eigen::Vector3d anchor_ = Eigen::Vector3d::Zero();       // the objects' mean position
+  Eigen::Vector3d light_point_ = Eigen::Vector3d::Zero();  // 10 cm above it
+  std::optional<envmap::RoomBox> room_;                    // [light] room
   bool want_rgbd_ = true;
   std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took
   TimestampNs last_colour_exposure_ns_ = 0;

@@ -141,10 +141,26 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
         r.fail(t->get("albedo"), "albedo must be in [0, 1] per channel");
   }
   if (auto* t = r.optional_table(root, "light")) {
-    r.only(*t, "[light]", {"enabled", "face_size", "keyframe_distance_m"});
+    r.only(*t, "[light]",
+           {"enabled", "face_size", "keyframe_distance_m", "room", "room_min", "room_max"});
     r.get(*t, "enabled", c.light_enabled);
     r.get(*t, "face_size", c.light_face_size);
     r.get(*t, "keyframe_distance_m", c.light_keyframe_distance_m);
+    r.get(*t, "room", c.light_room);
+    r.get_vector<3>(*t, "room_min", c.light_room_min);
+    r.get_vector<3>(*t, "room_max", c.light_room_max);
+    if (c.light_room != "off" && c.light_room != "sim" && c.light_room != "box")
+      r.fail(t->get("room"), "room must be \"off\", \"sim\" or \"box\"");
+    const bool has_box = t->get("room_min") || t->get("room_max");
+    if (c.light_room == "box") {
+      if (!t->get("room_min") || !t->get("room_max"))
+        r.fail(t->get("room"), "room = \"box\" needs room_min and room_max");
+      if (!(c.light_room_min.array() < c.light_room_max.array()).all())
+        r.fail(t->get("room_max"), "room_max must be above room_min in x, y and z");
+    } else if (has_box) {
+      r.fail(t->get("room_min") ? t->get("room_min") : t->get("room_max"),
+             "room_min and room_max are used with room = \"box\"");
+    }
     // Multiples of 32: the renderer's SH come from the keyframe box-averaged to 32 px faces.
     if (c.light_face_size < 32 || c.light_face_size > 1024 || c.light_face_size % 32 != 0)
       r.fail(t->get("face_size"), "face_size must be a multiple of 32 in 32..1024");

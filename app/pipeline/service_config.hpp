@@ -71,6 +71,13 @@ struct ServiceConfig {
   bool light_enabled = true;
   int light_face_size = 128;  // texels per cube face edge (the issue asks >= 128)
   double light_keyframe_distance_m = 0.5;
+  // Parallax with a room proxy (docs/light-capture.md "Parallax"): "off" (distant light, the
+  // thesis's keyframes), "sim" (the synthetic rig's room; sim sources only), "box" (an
+  // axis-aligned box from light_room_min to light_room_max, world metres). With a room the
+  // SH is of the keyframe seen from the first object.
+  std::string light_room = "off";
+  Eigen::Vector3d light_room_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d light_room_max = Eigen::Vector3d::Zero();
 
   std::int64_t max_frames = 0;  // 0 = run until stopped
   // A source that has delivered nothing for this long is "no signal": outputs show the last

@@ -257,27 +257,31 @@ void SimWorld::bake_lighting(const WorldBuilder& builder) {
   });
 }
 
-// The truth light: radiance around the probe position, 3 x 3 rays per texel, static scene.
+// The truth light: radiance around the probe position, 8 x 8 rays per texel, static scene.
+// 3 x 3 rays left the 32 px texels that lamp and window edges cross (100:1 contrast) 4.9 %
+// RMSE away from a 16 x 16-ray render over the upper hemisphere, as much as the light
+// estimate's own error it is meant to measure (docs/light-capture.md "eval light"); 8 x 8 is
+// within 1 % of it, rendered on two threads.
 void SimWorld::render_light_probes() {
-  constexpr int kFace = 32, kSub = 3;
+  constexpr int kFace = 32, kSub = 8;
   const Vec3 origin = light_probe_position().cast<float>();
+  WorkerPool pool(2);
   for (int state = 0; state < kLampStates; ++state) {
     auto cube = std::make_shared<Cubemap>(kFace);
-    for (int f = 0; f < 6; ++f) {
+    pool.parallel_for(6 * kFace, [&](int row) {
+      const int f = row / kFace, y = row % kFace;
       ImageRGBF& face = cube->faces[f];
-      for (int y = 0; y < kFace; ++y) {
-        for (int x = 0; x < kFace; ++x) {
-          Vec3 sum = Vec3::Zero();
-          for (int s = 0; s < kSub * kSub; ++s) {
-            const double u = (x + ((s % kSub) + 0.5) / kSub) / kFace;
-            const double v = (y + ((s / kSub) + 0.5) / kSub) / kFace;
-            const Ray ray(origin, cube_direction(static_cast<CubeFace>(f), u, v).cast<float>());
-            sum += shade(ray, trace_all(ray, *this, nullptr), *this, state, nullptr);
-          }
-          for (int c = 0; c < 3; ++c) face.at(x, y, c) = sum[c] / (kSub * kSub);
+      for (int x = 0; x < kFace; ++x) {
+        Vec3 sum = Vec3::Zero();
+        for (int s = 0; s < kSub * kSub; ++s) {
+          const double u = (x + ((s % kSub) + 0.5) / kSub) / kFace;
+          const double v = (y + ((s / kSub) + 0.5) / kSub) / kFace;
+          const Ray ray(origin, cube_direction(static_cast<CubeFace>(f), u, v).cast<float>());
+          sum += shade(ray, trace_all(ray, *this, nullptr), *this, state, nullptr);
         }
+        for (int c = 0; c < 3; ++c) face.at(x, y, c) = sum[c] / (kSub * kSub);
       }
-    }
+    });
     light_[state] = std::move(cube);
   }
 }

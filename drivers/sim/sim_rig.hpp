@@ -3,6 +3,7 @@
 // from a seed, as an RGB-D source and an upward fisheye source with ground truth. It is the
 // service's default source and the one every pipeline test runs on.
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -55,5 +56,9 @@ Eigen::Vector3d object_anchor();
 double table_top_height_m();
 // Where FrameTruth::light is seen from: 10 cm above the anchor, the centre of a small object.
 Eigen::Vector3d light_probe_position();
+// The room's floor, walls and ceiling as an axis-aligned box in the world frame (metres):
+// {lo, hi}. What a room proxy for light-capture parallax takes (docs/light-capture.md
+// "Parallax"); the lamps are in the ceiling and the window in the back wall, on the box.
+std::array<Eigen::Vector3d, 2> room_bounds();
 
 }  // namespace probeless::sim

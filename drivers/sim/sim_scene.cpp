@@ -299,4 +299,8 @@ void SimWorld::build_geometry(WorldBuilder& b) {
                         static_cast<float>(kGrid * kGrid);
 }
 
+std::array<Eigen::Vector3d, 2> room_bounds() {
+  return {kRoomLo.cast<double>(), kRoomHi.cast<double>()};
+}
+
 }  // namespace probeless::sim

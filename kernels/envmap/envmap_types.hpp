@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <optional>
 
 #include "core/camera/kannala_brandt.hpp"
 #include "core/cubemap.hpp"
@@ -55,13 +56,60 @@ struct UpdateParams {
   float change_sigma = 6.0F;
 };
 
+// A room proxy for parallax (docs/light-capture.md "Parallax"): an axis-aligned box in world
+// coordinates (metres) standing for the room's walls, floor and ceiling, as the box-projected
+// reflection probes of game engines use. Keyframe texels then name the point where the ray
+// from the keyframe's position leaves the box, not only a direction.
+struct RoomBox {
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+};
+// Throws std::invalid_argument unless lo < hi in every axis (all finite).
+void validate(const RoomBox& room);
+
 // The fisheye as the update kernel sees it: Kannala-Brandt (the sim's equidistant fisheye is
-// the k = 0 case) and the rotation from the world into the camera frame. Rotation only: the
-// environment is assumed distant, so the camera's offset from the keyframe's position is
-// ignored (docs/light-capture.md "Limits").
+// the k = 0 case) and the rotation from the world into the camera frame. Without a room box
+// the environment is taken as distant: the camera's offset from the keyframe's position is
+// ignored and a texel is its direction. With one, the texel's direction from
+// keyframe_position hits the box at a world point p, and the fisheye looks at p from
+// `position`, so every frame of a keyframe agrees on what the keyframe's position sees.
 struct FisheyeView {
   KannalaBrandtParams camera;
   Eigen::Matrix3d R_camera_world = Eigen::Matrix3d::Identity();
+  std::optional<RoomBox> room;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();           // the fisheye's centre, world
+  Eigen::Vector3d keyframe_position = Eigen::Vector3d::Zero();  // the keyframe's, world
 };
+
+// What the update kernel takes for the parallax, in float as both the kernel and the CPU
+// reference use it (differences taken in double first, so that metres of offset keep their
+// millimetres): the box relative to the keyframe's position, and the keyframe's offset from
+// the fisheye. Disabled without a room, or when the keyframe's position is not inside the box
+// (no wall ahead of every ray: the texels stay directions).
+struct ParallaxConstants {
+  bool enabled = false;
+  Eigen::Vector3f lo = Eigen::Vector3f::Zero(), hi = Eigen::Vector3f::Zero();  // box - k
+  Eigen::Vector3f offset = Eigen::Vector3f::Zero();                            // k - c
+};
+ParallaxConstants parallax_constants(const FisheyeView& view);
+bool inside(const RoomBox& room, const Eigen::Vector3d& p);
+
+// Distance (in units of |d|) along d from a point inside a box to where the ray leaves it;
+// lo and hi are the box relative to that point. min over axes of max(lo / d, hi / d): an axis
+// d does not move along gives +inf (or NaN for 0/0, which fmax drops). The kernels compute the
+// same operations.
+float box_exit(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Vector3f& d);
+
+// Direction (not normalised) -> face and face coordinates u, v in [0, 1], in float as
+// keyframe_reprojection.cl computes them (core's cube_texel_from_direction).
+struct CubeCoord {
+  int face = 0;
+  float u = 0, v = 0;
+};
+CubeCoord cube_coord_of(const Eigen::Vector3f& d);
+
+// The world direction the fisheye must look along to see what texel direction d (not
+// normalised) shows from the keyframe's position: d itself without parallax; else
+// offset + t d with t = box_exit (the wall point seen from the fisheye's centre).
+Eigen::Vector3f parallax_direction(const ParallaxConstants& p, const Eigen::Vector3f& d);
 
 }  // namespace probeless::envmap

@@ -1,23 +1,65 @@
 #include "kernels/envmap/envmap_update.hpp"
 
+#include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "kernels/envmap/envmap_update_cl.hpp"
+#include "kernels/hdr/hdr_conversion_cl.hpp"
 
 namespace probeless::envmap {
 
-EnvmapUpdate::EnvmapUpdate(ComputeContext& ctx, const UpdateParams& params)
-    : ctx_(ctx),
-      params_(params),
-      kernel_(ctx.kernel("envmap_update", cl_source::envmap_update, {}, "envmap_update")) {}
+namespace {
 
-void EnvmapUpdate::update(const DeviceImage<float, 4>& image, const FisheyeView& view, bool publish,
-                          DeviceImage<float, 4>& texels, DeviceImage<float, 4>& pending) {
-  const int n = texels.width();
-  if (texels.height() != 6 * n) throw std::invalid_argument("EnvmapUpdate: texels must be n x 6n");
+// The update program is the HDR conversion's source followed by the update's: the fused
+// kernel calls the conversion's convert_one, so the two can never disagree about a pixel.
+std::string program_source() {
+  std::string s(cl_source::hdr_conversion);
+  s += '\n';
+  s += cl_source::envmap_update;
+  return s;
+}
+
+cl_float4 float4_of(const Eigen::Vector3f& v) {
+  return cl_float4{{v.x(), v.y(), v.z(), 0.0F}};
+}
+
+constexpr int kLanes = 16;  // texels per work-item (envmap_update.cl)
+
+// One work-item per 16 texels of a row: 8 x 8 work-items (a 128 x 8 block of a 128 px face)
+// per group.
+void launch(ComputeContext& ctx, const ::cl::Kernel& kernel, int n) {
+  const std::size_t items = static_cast<std::size_t>((n + kLanes - 1) / kLanes);
+  const std::size_t max = ctx.local_2d()[0] * ctx.local_2d()[1];
+  const std::size_t lx = std::min<std::size_t>({8, items, max});
+  const std::size_t ly = std::max<std::size_t>(1, std::min<std::size_t>(8, max / lx));
+  ctx.queue().enqueueNDRangeKernel(
+      kernel, ::cl::NullRange,
+      ::cl::NDRange(round_up(items, lx), round_up(static_cast<std::size_t>(6 * n), ly)),
+      ::cl::NDRange(lx, ly));
+}
+
+}  // namespace
+
+EnvmapUpdate::EnvmapUpdate(ComputeContext& ctx, const UpdateParams& params,
+                           const HdrConversionParams& hdr)
+    : ctx_(ctx), params_(params), hdr_(hdr) {
+  validate(hdr_);
+  const std::string source = program_source();
+  converted_ = ctx.kernel("envmap_update", source, {}, "envmap_update");
+  raw_ = ctx.kernel("envmap_update", source, {}, "envmap_update_raw");
+}
+
+void EnvmapUpdate::check(const DeviceImage<float, 4>& texels,
+                         const DeviceImage<float, 4>& pending) {
+  if (texels.height() != 6 * texels.width())
+    throw std::invalid_argument("EnvmapUpdate: texels must be n x 6n");
   if (!pending.same_size(texels))
     throw std::invalid_argument("EnvmapUpdate: pending must match texels");
-  if (texels.empty() || image.empty()) return;
+}
+
+void EnvmapUpdate::set_view_args(::cl::Kernel& kernel, int a, int n, const FisheyeView& view,
+                                 bool publish) {
   const Eigen::Matrix3f r = view.R_camera_world.cast<float>();
   const auto row = [&](int i) { return cl_float4{{r(i, 0), r(i, 1), r(i, 2), 0.0F}}; };
   const KannalaBrandtParams& c = view.camera;
@@ -25,29 +67,69 @@ void EnvmapUpdate::update(const DeviceImage<float, 4>& image, const FisheyeView&
                          static_cast<float>(c.cx), static_cast<float>(c.cy)}};
   const cl_float4 k{{static_cast<float>(c.k[0]), static_cast<float>(c.k[1]),
                      static_cast<float>(c.k[2]), static_cast<float>(c.k[3])}};
+  const ParallaxConstants p = parallax_constants(view);
   const float sigma2 = params_.measurement_sigma * params_.measurement_sigma;
   const float process2 = params_.process_sigma * params_.process_sigma;
   const float change2 =
       params_.change_sigma > 0 ? params_.change_sigma * params_.change_sigma : 0.0F;
+  kernel.setArg(a++, n);
+  kernel.setArg(a++, row(0));
+  kernel.setArg(a++, row(1));
+  kernel.setArg(a++, row(2));
+  kernel.setArg(a++, focal);
+  kernel.setArg(a++, k);
+  kernel.setArg(a++, static_cast<float>(c.max_theta));
+  kernel.setArg(a++, p.enabled ? 1 : 0);
+  kernel.setArg(a++, float4_of(p.lo));
+  kernel.setArg(a++, float4_of(p.hi));
+  kernel.setArg(a++, float4_of(p.offset));
+  kernel.setArg(a++, params_.rule == UpdateRule::Kalman ? 0 : 1);
+  kernel.setArg(a++, publish ? 1 : 0);
+  kernel.setArg(a++, sigma2);
+  kernel.setArg(a++, process2);
+  kernel.setArg(a++, change2);
+}
+
+void EnvmapUpdate::update(const DeviceImage<float, 4>& image, const FisheyeView& view, bool publish,
+                          DeviceImage<float, 4>& texels, DeviceImage<float, 4>& pending) {
+  check(texels, pending);
+  if (texels.empty() || image.empty()) return;
+  const int n = texels.width();
   int a = 0;
-  kernel_.setArg(a++, texels.buffer());
-  kernel_.setArg(a++, pending.buffer());
-  kernel_.setArg(a++, image.buffer());
-  kernel_.setArg(a++, image.width());
-  kernel_.setArg(a++, image.height());
-  kernel_.setArg(a++, n);
-  kernel_.setArg(a++, row(0));
-  kernel_.setArg(a++, row(1));
-  kernel_.setArg(a++, row(2));
-  kernel_.setArg(a++, focal);
-  kernel_.setArg(a++, k);
-  kernel_.setArg(a++, static_cast<float>(c.max_theta));
-  kernel_.setArg(a++, params_.rule == UpdateRule::Kalman ? 0 : 1);
-  kernel_.setArg(a++, publish ? 1 : 0);
-  kernel_.setArg(a++, sigma2);
-  kernel_.setArg(a++, process2);
-  kernel_.setArg(a++, change2);
-  ctx_.run_2d(kernel_, n, 6 * n);
+  converted_.setArg(a++, texels.buffer());
+  converted_.setArg(a++, pending.buffer());
+  converted_.setArg(a++, image.buffer());
+  converted_.setArg(a++, image.width());
+  converted_.setArg(a++, image.height());
+  set_view_args(converted_, a, n, view, publish);
+  launch(ctx_, converted_, n);
+}
+
+void EnvmapUpdate::update_raw(const DeviceImage<std::uint16_t, 3>& raw, int bit_depth,
+                              std::uint16_t black_level, const Exposure& exposure,
+                              const FisheyeView& view, bool publish, DeviceImage<float, 4>& texels,
+                              DeviceImage<float, 4>& pending) {
+  check(texels, pending);
+  const HdrConversionConstants c = hdr_conversion_constants(bit_depth, black_level, exposure, hdr_);
+  if (texels.empty() || raw.empty()) return;
+  const int n = texels.width();
+  int a = 0;
+  raw_.setArg(a++, texels.buffer());
+  raw_.setArg(a++, pending.buffer());
+  raw_.setArg(a++, raw.buffer());
+  raw_.setArg(a++, raw.width());
+  raw_.setArg(a++, raw.height());
+  raw_.setArg(a++, static_cast<int>(black_level));
+  raw_.setArg(a++, c.saturated_signal);
+  raw_.setArg(a++, c.black_margin);
+  raw_.setArg(a++, c.radiance_scale);
+  raw_.setArg(a++, c.inv_range);
+  raw_.setArg(a++, c.crop ? 1 : 0);
+  raw_.setArg(a++, c.circle_cx);
+  raw_.setArg(a++, c.circle_cy);
+  raw_.setArg(a++, c.circle_radius2);
+  set_view_args(raw_, a, n, view, publish);
+  launch(ctx_, raw_, n);
 }
 
 }  // namespace probeless::envmap

@@ -1,27 +1,47 @@
 #pragma once
-// Updates an environment-map keyframe from one HDR-converted fisheye frame: every texel the
-// fisheye sees, by the Kalman or the best-score rule (envmap_update.cl; docs/light-capture.md).
+// Updates an environment-map keyframe from one fisheye frame: every texel the fisheye sees,
+// by the Kalman or the best-score rule (envmap_update.cl; docs/light-capture.md).
+#include <cstdint>
+
+#include "core/exposure.hpp"
 #include "kernels/envmap/envmap_types.hpp"
+#include "kernels/hdr/hdr_conversion.hpp"
 #include "kernels/runtime/device_image.hpp"
 
 namespace probeless::envmap {
 
 class EnvmapUpdate {
  public:
-  EnvmapUpdate(ComputeContext& ctx, const UpdateParams& params = {});
+  // hdr: the conversion update_raw applies to the raw samples it reads (validated here).
+  EnvmapUpdate(ComputeContext& ctx, const UpdateParams& params = {},
+               const HdrConversionParams& hdr = {});
   const UpdateParams& params() const { return params_; }
+  const HdrConversionParams& hdr_params() const { return hdr_; }
 
-  // image: the converted frame (rgb radiance, a quality, 0 = unusable). texels and pending:
+  // image: a converted frame (rgb radiance, a quality, 0 = unusable). texels and pending:
   // n x 6n; pending holds the best-score rule's samples of the current cycle and must start
   // zeroed (the Kalman rule ignores it). publish: this frame ends a bracket cycle (best-score
-  // writes the cycle's best samples into texels and clears pending). Enqueues only.
+  // writes the cycle's best samples into texels and clears pending). view.room: parallax
+  // with a room box (envmap_types.hpp). Enqueues only.
   void update(const DeviceImage<float, 4>& image, const FisheyeView& view, bool publish,
               DeviceImage<float, 4>& texels, DeviceImage<float, 4>& pending);
+  // The same from the raw frame, converting only the pixels the texels read, exactly as
+  // HdrConversion::convert(raw, bit_depth, black_level, exposure) with hdr_params() would
+  // (same arguments, same std::invalid_argument on bad ones), without writing the converted
+  // frame: the result equals update() on that conversion.
+  void update_raw(const DeviceImage<std::uint16_t, 3>& raw, int bit_depth,
+                  std::uint16_t black_level, const Exposure& exposure, const FisheyeView& view,
+                  bool publish, DeviceImage<float, 4>& texels, DeviceImage<float, 4>& pending);
 
  private:
+  // Sets the arguments from `first` on: texel geometry, camera, parallax and rule.
+  void set_view_args(::cl::Kernel& kernel, int first, int n, const FisheyeView& view, bool publish);
+  static void check(const DeviceImage<float, 4>& texels, const DeviceImage<float, 4>& pending);
+
   ComputeContext& ctx_;
   UpdateParams params_;
-  ::cl::Kernel kernel_;
+  HdrConversionParams hdr_;
+  ::cl::Kernel converted_, raw_;
 };
 
 }  // namespace probeless::envmap

@@ -47,8 +47,12 @@ std::optional<Eigen::Vector4f> sample_fisheye_reference(const ImageRGBAF& image,
                                                         const FisheyeView& view,
                                                         const Eigen::Vector3f& world_direction) {
   const Eigen::Matrix3f r = view.R_camera_world.cast<float>();
-  const Eigen::Vector3f p(r.row(0).dot(world_direction), r.row(1).dot(world_direction),
-                          r.row(2).dot(world_direction));
+  const auto& w = world_direction;
+  Eigen::Vector3f p;
+  for (int i = 0; i < 3; ++i) {  // the kernel's order, one rounding per operation
+    const float a = r(i, 0) * w.x(), b = r(i, 1) * w.y(), c = r(i, 2) * w.z();
+    p[i] = (a + b) + c;
+  }
   const KannalaBrandtParams& c = view.camera;
   const float rad = std::sqrt(p.x() * p.x() + p.y() * p.y());
   const float theta = polar_angle(rad, p.z());
@@ -83,11 +87,12 @@ void envmap_update_reference(const ImageRGBAF& image, const FisheyeView& view,
   const float measurement_var = params.measurement_sigma * params.measurement_sigma;
   const float process_var = params.process_sigma * params.process_sigma;
   const float change2 = params.change_sigma > 0 ? params.change_sigma * params.change_sigma : 0.0F;
+  const ParallaxConstants parallax = parallax_constants(view);
   for (int row = 0; row < 6 * n; ++row) {
     const int face = row / n, y = row - face * n;
     for (int x = 0; x < n; ++x) {
-      const auto z =
-          sample_fisheye_reference(image, view, texel_direction_reference(face, x, y, n));
+      const auto z = sample_fisheye_reference(
+          image, view, parallax_direction(parallax, texel_direction_reference(face, x, y, n)));
       float* t = &texels.at(x, row);
       if (params.rule == UpdateRule::Kalman) {
         if (!z) continue;
@@ -117,6 +122,14 @@ void envmap_update_reference(const ImageRGBAF& image, const FisheyeView& view,
       }
     }
   }
+}
+
+void envmap_update_raw_reference(const ImageRGB16& raw, int bit_depth, std::uint16_t black_level,
+                                 const Exposure& exposure, const HdrConversionParams& hdr,
+                                 const FisheyeView& view, const UpdateParams& params, bool publish,
+                                 ImageRGBAF& texels, ImageRGBAF& pending) {
+  envmap_update_reference(hdr_conversion_reference(raw, bit_depth, black_level, exposure, hdr),
+                          view, params, publish, texels, pending);
 }
 
 }  // namespace probeless::envmap

@@ -16,15 +16,37 @@ int level_size(int n, int k) {
   return m;
 }
 
-// One work-group per face runs the whole pyramid, pull then push, with barriers between
-// levels: 2 launches per pass instead of 2 per level (on PoCL a launch costs about as much as
-// a small level's work). face_state[f]: 0 = no data, 2 = observed texels, 1 = filled from
-// neighbours; pass 0 works on every face and sets 0 or 2, later passes on the faces
-// seed_borders picked (face_target) and set 1.
-__kernel void pull_push_faces(__global float4* texels, int n, __global float4* pyramid,
-                              __global int* face_state, __global const int* face_target, int pass) {
-  const int face = get_group_id(0), lid = get_local_id(0), size = get_local_size(0);
-  if (pass > 0 && !face_target[face]) return;  // uniform across the work-group
+// A fine texel after the push from its parent, as selects (the keyframe's alpha pattern made
+// the branches mispredict): see pull_push_face.
+float4 push_texel(float4 t, float4 parent, int is_texels) {
+  // Vector masks (isequal / isless on .wwww) so that the compiler blends instead of branching.
+  if (is_texels) {
+    const float4 filled = select(t, (float4)(parent.xyz, 0.0f), isequal(t.wwww, (float4)(0.0f)));
+    return select(filled, (float4)(t.xyz, 0.0f), isless(t.wwww, (float4)(0.0f)));
+  }
+  const float4 mixed = (float4)(t.w * t.xyz + (1.0f - t.w) * parent.xyz, 1.0f);
+  return select(t, mixed, isless(t.wwww, (float4)(1.0f)));
+}
+
+// Steps a work-item's texel (x, y) of a row-major grid m wide from index i to i + size
+// without a division (dx, dy = size % m, size / m): integer division was the push's hottest
+// instruction on PoCL.
+#define NEXT_XY(x, y, m, dx, dy) \
+  {                              \
+    x += dx;                     \
+    y += dy;                     \
+    if (x >= m) {                \
+      x -= m;                    \
+      ++y;                       \
+    }                            \
+  }
+
+// One work-group runs a face's whole pyramid, pull then push, with barriers between levels
+// (every work-item of the group must call it). Returns the weight of the face's 1 x 1 top:
+// > 0 when the face had data. Work-items own coarse texels: the pull reads their (up to) 2 x 2
+// children, the push writes them from the one parent.
+float pull_push_face(__global float4* texels, int n, __global float4* pyramid, int face, int lid,
+                     int size) {
   int levels = 0;
   for (int m = n; m > 1; m = (m + 1) / 2) ++levels;
 
@@ -35,31 +57,39 @@ __kernel void pull_push_faces(__global float4* texels, int n, __global float4* p
     __global const float4* fine =
         k == 0 ? texels + face * n * n : pyramid + offset - 6 * fs * fs + face * fs * fs;
     __global float4* coarse = pyramid + offset + face * cs * cs;
+    const int dy = size / cs, dx = size - dy * cs;
+    int y = lid / cs, x = lid - y * cs;
     for (int i = lid; i < cs * cs; i += size) {
-      const int y = i / cs, x = i - y * cs;
       float3 sum = (float3)(0.0f);
       float wsum = 0.0f;
-      for (int j = 0; j < 2; ++j) {
-        const int fy = 2 * y + j;
-        if (fy >= fs) break;
-        for (int q = 0; q < 2; ++q) {
-          const int fx = 2 * x + q;
-          if (fx >= fs) break;
-          const float4 t = fine[fy * fs + fx];
-          const float w = level_weight(t, k == 0);
-          sum += w * t.xyz;
-          wsum += w;
+      if (2 * x + 1 < fs && 2 * y + 1 < fs) {  // all four children: no loop, no branch
+        __global const float4* c0 = fine + 2 * y * fs + 2 * x;
+        const float4 a = c0[0], b = c0[1], c = c0[fs], d = c0[fs + 1];
+        const float wa = level_weight(a, k == 0), wb = level_weight(b, k == 0);
+        const float wc = level_weight(c, k == 0), wd = level_weight(d, k == 0);
+        sum = ((wa * a.xyz + wb * b.xyz) + wc * c.xyz) + wd * d.xyz;
+        wsum = ((wa + wb) + wc) + wd;
+      } else {  // the last row or column of an odd-sized level
+        for (int j = 0; j < 2; ++j) {
+          const int fy = 2 * y + j;
+          if (fy >= fs) break;
+          for (int q = 0; q < 2; ++q) {
+            const int fx = 2 * x + q;
+            if (fx >= fs) break;
+            const float4 t = fine[fy * fs + fx];
+            const float w = level_weight(t, k == 0);
+            sum += w * t.xyz;
+            wsum += w;
+          }
         }
       }
       coarse[i] = wsum > 0.0f ? (float4)(sum / wsum, fmin(wsum, 1.0f)) : (float4)(0.0f);
+      NEXT_XY(x, y, cs, dx, dy)
     }
     barrier(CLK_GLOBAL_MEM_FENCE);
     offset += 6 * cs * cs;
   }
-  if (lid == 0) {
-    const float top = levels > 0 ? pyramid[offset - 6 + face].w : 0.0f;
-    face_state[face] = pass == 0 ? (top > 0.0f ? 2 : 0) : 1;
-  }
+  const float top = levels > 0 ? pyramid[offset - 6 + face].w : 0.0f;
 
   // Push: a fine texel of weight w < 1 becomes w itself + (1 - w) its parent. On the keyframe
   // that leaves observed texels bit for bit, fills unobserved ones with the parent, and turns
@@ -70,21 +100,34 @@ __kernel void pull_push_faces(__global float4* texels, int n, __global float4* p
     __global float4* fine =
         k == 0 ? texels + face * n * n : pyramid + offset - 6 * fs * fs + face * fs * fs;
     __global const float4* coarse = pyramid + offset + face * cs * cs;
-    for (int i = lid; i < fs * fs; i += size) {
-      const int y = i / fs, x = i - y * fs;
-      const float4 t = fine[i];
-      const float4 parent = coarse[(y / 2) * cs + x / 2];
-      if (k == 0) {
-        if (t.w == 0.0f)
-          fine[i] = (float4)(parent.xyz, 0.0f);
-        else if (t.w < 0.0f)
-          fine[i] = (float4)(t.xyz, 0.0f);
-      } else if (t.w < 1.0f) {
-        fine[i] = (float4)(t.w * t.xyz + (1.0f - t.w) * parent.xyz, 1.0f);
+    const int dy = size / cs, dx = size - dy * cs;
+    int y = lid / cs, x = lid - y * cs;
+    for (int i = lid; i < cs * cs; i += size) {
+      const float4 parent = coarse[i];
+      for (int j = 0; j < 2; ++j) {
+        const int fy = 2 * y + j;
+        if (fy >= fs) break;
+        for (int q = 0; q < 2; ++q) {
+          const int fx = 2 * x + q;
+          if (fx >= fs) break;
+          __global float4* f = fine + fy * fs + fx;
+          *f = push_texel(*f, parent, k == 0);
+        }
       }
+      NEXT_XY(x, y, cs, dx, dy)
     }
     barrier(CLK_GLOBAL_MEM_FENCE);
   }
+  return top;
+}
+
+// Pass 0: one work-group per face. face_state[f]: 0 = no data, 2 = observed texels (later,
+// fill_empty_faces: 1 = filled from neighbours).
+__kernel void pull_push_faces(__global float4* texels, int n, __global float4* pyramid,
+                              __global int* face_state) {
+  const int face = get_group_id(0), lid = get_local_id(0);
+  const float top = pull_push_face(texels, n, pyramid, face, lid, get_local_size(0));
+  if (lid == 0) face_state[face] = top > 0.0f ? 2 : 0;
 }
 
 // --- Across face edges ---
@@ -152,23 +195,12 @@ int cube_texel(float3 d, int n, int* tx, int* ty) {
   return face;
 }
 
-// Seeds the border texels of every face without data that has a neighbour with data, from
-// the edge texels of those neighbours (face_state != 0): the texel one step outside the face's
-// edge, looked up by direction, marked alpha = -1; records the faces it seeded in face_target
-// for the pass that follows. Work-items: (i, face * 4 + edge); edges 0/1 are the top/bottom
-// rows (corners included), 2/3 the left/right columns without the corners (one writer per
-// texel).
-__kernel void seed_borders(__global float4* texels, int n, __global const int* face_state,
-                           __global int* face_target) {
-  const int i = get_global_id(0), fe = get_global_id(1);
-  if (i >= n || fe >= 24) return;
-  const int face = fe / 4, edge = fe - 4 * face;
-  int have = 0;
-  for (int f = 0; f < 6; ++f) have |= face_state[f] != 0 ? 1 << f : 0;
-  const int adjacent = 0x3F & ~(3 << (face & ~1));
-  const int target = !((have >> face) & 1) && (adjacent & have) ? 1 : 0;
-  if (i == 0 && edge == 0) face_target[face] = target;
-  if (!target) return;
+// Seeds border texel i of edge `edge` of `face` (a face without data) from the texel one step
+// outside the face's edge in the adjacent face, looked up by direction, when that face has
+// data (bit set in `have`); marked alpha = -1 for the pull-push that follows. Edges 0/1 are
+// the top/bottom rows (corners included), 2/3 the left/right columns without the corners (one
+// writer per texel).
+void seed_border_texel(__global float4* texels, int n, int face, int edge, int i, int have) {
   int x, y;
   float du = 0.0f, dv = 0.0f;
   if (edge < 2) {
@@ -189,4 +221,37 @@ __kernel void seed_borders(__global float4* texels, int n, __global const int* f
   if (source == face || !((have >> source) & 1)) return;
   const float4 s = texels[(source * n + sy) * n + sx];
   texels[(face * n + y) * n + x] = (float4)(s.xyz, -1.0f);
+}
+
+// Passes 1..3 in one work-group (after pull_push_faces): each pass seeds the borders of the
+// faces without data that have a neighbour with data, pulls and pushes them, and marks them
+// filled (face_state 1); a face opposite the only observed one needs its four neighbours
+// filled first, hence up to three passes. One launch instead of six: on PoCL a launch cost
+// about as much as a pass's work, and the usual pass (the floor of an upward fisheye) is one
+// face (docs/performance.md "Light capture: bench light").
+__kernel void fill_empty_faces(__global float4* texels, int n, __global float4* pyramid,
+                               __global int* face_state) {
+  const int lid = get_local_id(0), size = get_local_size(0);
+  for (int pass = 1; pass <= 3; ++pass) {
+    int have = 0;
+    for (int f = 0; f < 6; ++f) have |= face_state[f] != 0 ? 1 << f : 0;
+    int targets = 0;
+    for (int f = 0; f < 6; ++f) {
+      const int adjacent = 0x3F & ~(3 << (f & ~1));
+      if (!((have >> f) & 1) && (adjacent & have)) targets |= 1 << f;
+    }
+    if (targets == 0) return;  // the same for every work-item: they read the same state
+    for (int j = lid; j < 24 * n; j += size) {
+      const int fe = j / n, face = fe / 4;
+      if ((targets >> face) & 1)
+        seed_border_texel(texels, n, face, fe - 4 * face, j - fe * n, have);
+    }
+    barrier(CLK_GLOBAL_MEM_FENCE);
+    for (int f = 0; f < 6; ++f)
+      if ((targets >> f) & 1) pull_push_face(texels, n, pyramid, f, lid, size);
+    if (lid == 0)
+      for (int f = 0; f < 6; ++f)
+        if ((targets >> f) & 1) face_state[f] = 1;
+    barrier(CLK_GLOBAL_MEM_FENCE);
+  }
 }

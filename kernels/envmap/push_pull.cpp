@@ -11,13 +11,15 @@ namespace probeless::envmap {
 PushPull::PushPull(ComputeContext& ctx)
     : ctx_(ctx),
       pull_push_(ctx.kernel("push_pull", cl_source::push_pull, {}, "pull_push_faces")),
-      seed_(ctx.kernel("push_pull", cl_source::push_pull, {}, "seed_borders")),
-      face_state_(ctx.context(), CL_MEM_READ_WRITE, 6 * sizeof(cl_int)),
-      face_target_(ctx.context(), CL_MEM_READ_WRITE, 6 * sizeof(cl_int)) {
+      fill_empty_(ctx.kernel("push_pull", cl_source::push_pull, {}, "fill_empty_faces")),
+      face_state_(ctx.context(), CL_MEM_READ_WRITE, 6 * sizeof(cl_int)) {
   // 256 work-items per face: enough to spread a 128 px face's levels, within every device's
-  // limit for this kernel.
-  const auto max = pull_push_.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx.device());
-  local_ = std::min<std::size_t>(256, max);
+  // limit for these kernels.
+  const auto max = [&](const ::cl::Kernel& k) {
+    return k.getWorkGroupInfo<CL_KERNEL_WORK_GROUP_SIZE>(ctx.device());
+  };
+  local_ = std::min<std::size_t>(256, max(pull_push_));
+  local_fill_ = std::min<std::size_t>(256, max(fill_empty_));
 }
 
 void PushPull::fill(DeviceImage<float, 4>& texels) {
@@ -34,25 +36,16 @@ void PushPull::fill(DeviceImage<float, 4>& texels) {
                             std::max<std::size_t>(texel_count, 1) * sizeof(cl_float4));
     face_size_ = n;
   }
-  const auto pass = [&](int index) {
-    pull_push_.setArg(0, texels.buffer());
-    pull_push_.setArg(1, n);
-    pull_push_.setArg(2, pyramid_);
-    pull_push_.setArg(3, face_state_);
-    pull_push_.setArg(4, face_target_);
-    pull_push_.setArg(5, index);
-    ctx_.queue().enqueueNDRangeKernel(pull_push_, ::cl::NullRange, ::cl::NDRange(6 * local_),
-                                      ::cl::NDRange(local_));
-  };
-  pass(0);
-  for (int p = 1; p <= 3; ++p) {
-    seed_.setArg(0, texels.buffer());
-    seed_.setArg(1, n);
-    seed_.setArg(2, face_state_);
-    seed_.setArg(3, face_target_);
-    ctx_.run_2d(seed_, n, 24);
-    pass(p);
+  for (::cl::Kernel* k : {&pull_push_, &fill_empty_}) {
+    k->setArg(0, texels.buffer());
+    k->setArg(1, n);
+    k->setArg(2, pyramid_);
+    k->setArg(3, face_state_);
   }
+  ctx_.queue().enqueueNDRangeKernel(pull_push_, ::cl::NullRange, ::cl::NDRange(6 * local_),
+                                    ::cl::NDRange(local_));
+  ctx_.queue().enqueueNDRangeKernel(fill_empty_, ::cl::NullRange, ::cl::NDRange(local_fill_),
+                                    ::cl::NDRange(local_fill_));
 }
 
 int PushPull::observed_faces() {

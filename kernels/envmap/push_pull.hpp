@@ -5,7 +5,8 @@
 // from the adjacent faces' filled borders and pushed-pulled again, in passes until every face
 // that can be reached has data (at most three: a face opposite the only observed one needs
 // its four neighbours first). Observed texels never change. Everything is decided on the
-// device (seven launches, no read-back): one work-group per face runs a whole pyramid.
+// device (two launches, no read-back): one work-group per face runs a whole pyramid, then one
+// work-group runs the passes across face edges.
 #include "kernels/envmap/envmap_types.hpp"
 #include "kernels/runtime/device_image.hpp"
 
@@ -27,12 +28,11 @@ class PushPull {
 
  private:
   ComputeContext& ctx_;
-  ::cl::Kernel pull_push_, seed_;
-  ::cl::Buffer pyramid_;      // levels 1..top of all six faces
-  ::cl::Buffer face_state_;   // int[6]: 0 no data, 2 observed, 1 filled from neighbours
-  ::cl::Buffer face_target_;  // int[6]: the faces a pass works on
+  ::cl::Kernel pull_push_, fill_empty_;
+  ::cl::Buffer pyramid_;     // levels 1..top of all six faces
+  ::cl::Buffer face_state_;  // int[6]: 0 no data, 2 observed, 1 filled from neighbours
   int face_size_ = 0;
-  std::size_t local_ = 1;
+  std::size_t local_ = 1, local_fill_ = 1;
 };
 
 }  // namespace probeless::envmap

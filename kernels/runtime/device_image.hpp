@@ -34,6 +34,20 @@ class DeviceImage {
     upload(ctx.queue(), host);
   }
 
+  // A read-only device image over `host`'s own memory (CL_MEM_USE_HOST_PTR): on a device that
+  // shares the host's memory (PoCL on the CPU, most boards' GPUs) kernels read it in place, so
+  // a frame is not copied before a kernel that reads only part of it. `host` must stay alive
+  // and unchanged until every command using the image has finished.
+  static DeviceImage wrap_host(const ::cl::Context& context, const HostImage& host) {
+    DeviceImage image;
+    image.width_ = host.width();
+    image.height_ = host.height();
+    if (!image.empty())
+      image.buffer_ = ::cl::Buffer(context, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR,
+                                   image.size_bytes(), const_cast<T*>(host.data()));
+    return image;
+  }
+
   int width() const { return width_; }
   int height() const { return height_; }
   bool empty() const { return size_bytes() == 0; }

@@ -18,6 +18,18 @@ inline Eigen::Matrix3d upward_R_camera_world() {
   return r_world_camera.transpose();
 }
 
+// A room box around the origin and two positions inside it (the keyframe's, the fisheye's up
+// to 0.6 m away), as a rig in a living room would see it.
+inline void add_random_room(std::mt19937& rng, FisheyeView& view) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  RoomBox room;
+  room.lo = Eigen::Vector3d(-2.5 + 0.5 * u(rng), -2.0 + 0.5 * u(rng), 0.0);
+  room.hi = Eigen::Vector3d(2.5 + 0.5 * u(rng), 3.0 + 0.5 * u(rng), 2.7 + 0.2 * u(rng));
+  view.room = room;
+  view.keyframe_position = Eigen::Vector3d(0.8 * u(rng), 0.8 * u(rng), 1.2 + 0.3 * u(rng));
+  view.position = view.keyframe_position + 0.35 * Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng));
+}
+
 inline FisheyeView random_view(std::mt19937& rng, int size) {
   std::uniform_real_distribution<double> u(-1, 1), fov(160, 200);
   FisheyeView v;
@@ -28,6 +40,25 @@ inline FisheyeView random_view(std::mt19937& rng, int size) {
   const Eigen::Quaterniond q(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized());
   v.R_camera_world = q.toRotationMatrix();
   return v;
+}
+
+// A raw 12-bit frame (black level 256) whose signal rises smoothly over a decade across the
+// image, with a twentieth of the pixels saturated in one channel and a twentieth black: the
+// fused conversion must flag them as the conversion does.
+inline ImageRGB16 random_raw(std::mt19937& rng, int w, int h) {
+  std::uniform_real_distribution<float> e(1, 1.3F), pick(0, 1);
+  ImageRGB16 raw(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float level =
+          300.0F * std::pow(10.0F, static_cast<float>(x + y) / static_cast<float>(w + h));
+      std::uint16_t* p = &raw.at(x, y, 0);
+      for (int c = 0; c < 3; ++c) p[c] = static_cast<std::uint16_t>(256 + level * e(rng));
+      const float kind = pick(rng);
+      if (kind < 0.05F) p[1] = 4095;               // saturated
+      if (kind > 0.95F) p[0] = p[1] = p[2] = 257;  // black
+    }
+  return raw;
 }
 
 // Radiance over three decades across the image, neighbours within a factor of two (a float

@@ -4,6 +4,8 @@
 
 #include <random>
 
+#include "kernels/envmap/keyframe_reprojection.hpp"
+
 namespace probeless::light {
 namespace {
 
@@ -36,6 +38,36 @@ TEST(ShProjector, ConstantRadianceGivesOnlyL00) {
   // Band 4 holds the cubic harmonic x^4 + y^4 + z^4, which texel-centre sampling of a cube
   // aliases slightly (core's project_sh alike): 0.2 % of L00 at 16 px faces.
   for (int k = 16; k < kShMaxCount; ++k) EXPECT_NEAR(sh.c[k][1], 0.0, 3e-3 * sh.c[0][1]) << k;
+}
+
+// The table folded through the reprojection gives the SH of the reprojected keyframe (what
+// the service reports for the object) from the keyframe's own faces.
+TEST(ShProjector, ReprojectedTableEqualsTheSHOfTheReprojection) {
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> v(1, 100);
+  const int m = 8;
+  envmap::ImageRGBAF faces = envmap::make_texels(m);
+  for (float& x : faces.elements()) x = v(rng);
+  const envmap::RoomBox room{{-2.5, -2.5, 0.0}, {2.5, 2.5, 2.7}};
+  const Eigen::Vector3d k(0.0, -1.1, 1.15), object(0.0, 0.6, 0.85);
+  const envmap::ParallaxConstants p = envmap::reprojection_constants(room, k, object);
+  ASSERT_TRUE(p.enabled);
+  const ShRgb got = ShProjector(m, p, 4).project(faces);
+  const ShRgb want =
+      project_sh(envmap::to_cubemap(envmap::reproject_keyframe(faces, k, room, object, m, 4)));
+  const ShRgb plain = ShProjector(m).project(faces);
+  double diff = 0, moved = 0;
+  for (int i = 0; i < kShMaxCount; ++i)
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(got.c[i][c], want.c[i][c], 1e-4 * want.c[0][c]) << i;
+      diff += std::abs(got.c[i][c] - want.c[i][c]);
+      moved += std::abs(plain.c[i][c] - want.c[i][c]);
+    }
+  EXPECT_GT(moved, 100 * diff);  // the reprojection changed the SH
+  // Without parallax, one sample at each texel centre: the plain table.
+  const ShRgb same = ShProjector(m, envmap::ParallaxConstants{}, 1).project(faces);
+  for (int i = 0; i < kShMaxCount; ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(same.c[i][c], plain.c[i][c], 1e-4 * plain.c[0][c]);
 }
 
 TEST(ShProjector, RejectsAnotherSize) {

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include "app/pipeline/light_capture.hpp"
 #include "core/error.hpp"
+#include "drivers/sim/sim_rig.hpp"
 
 namespace probeless {
 namespace {
@@ -60,6 +62,9 @@ gpio_line = 17
 [light]
 face_size = 64
 keyframe_distance_m = 0.25
+room = "box"
+room_min = [-2.0, -3.0, 0.0]
+room_max = [2.5, 3.0, 2.4]
 )");
   EXPECT_EQ(c.source, "replay:/data/rec1");
   ASSERT_EQ(c.objects.size(), 2u);
@@ -92,6 +97,9 @@ keyframe_distance_m = 0.25
   EXPECT_TRUE(c.light_enabled);
   EXPECT_EQ(c.light_face_size, 64);
   EXPECT_EQ(c.light_keyframe_distance_m, 0.25);
+  EXPECT_EQ(c.light_room, "box");
+  EXPECT_DOUBLE_EQ(c.light_room_min.y(), -3.0);
+  EXPECT_DOUBLE_EQ(c.light_room_max.z(), 2.4);
 }
 
 // A typo must not fall back silently to a default: the error names the key and its line.
@@ -122,12 +130,42 @@ TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[light]\nface_size = 4\n"), ParseError);
   EXPECT_THROW(parse_service_config("[light]\nface_size = 80\n"), ParseError);  // not x32
   EXPECT_THROW(parse_service_config("[light]\nkeyframe_distance_m = 0\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nroom = \"cube\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nroom = \"box\"\nroom_min = [0, 0, 0]\n"), ParseError);
+  EXPECT_THROW(
+      parse_service_config("[light]\nroom = \"box\"\nroom_min = [0, 0, 0]\nroom_max = [1, 1, 0]\n"),
+      ParseError);  // flat
+  EXPECT_THROW(parse_service_config("[light]\nroom_min = [0, 0, 0]\nroom_max = [1, 1, 1]\n"),
+               ParseError);  // a box without room = "box"
+  EXPECT_EQ(parse_service_config("[light]\nroom = \"sim\"\n").light_room, "sim");
+  EXPECT_EQ(parse_service_config("").light_room, "off");
   EXPECT_THROW(parse_service_config("[[object]]\nmaterial = \"velvet\"\n"), ParseError);
   EXPECT_THROW(parse_service_config("[[object]]\nroughness = 1.5\n"), ParseError);
   EXPECT_THROW(parse_service_config("[[object]]\nior = 0\n"), ParseError);
   EXPECT_THROW(parse_service_config("[ground]\nsize_m = 0\n"), ParseError);
   EXPECT_THROW(parse_service_config("[ground]\nalbedo = [0.5, 2, 0.5]\n"), ParseError);
   EXPECT_THROW(parse_service_config("[ground]\nheight = 1\n"), ParseError);
+}
+
+// The configuration the package installs runs the sim with its room box for parallax.
+TEST(ServiceConfig, TheShippedConfigurationParses) {
+  const ServiceConfig c =
+      load_service_config(PROBELESS_TEST_SOURCE_DIR "/../../../systemd/probeless.toml");
+  EXPECT_EQ(c.source, "sim");
+  EXPECT_EQ(c.light_room, "sim");
+}
+
+// [light] room = "sim" takes the box from drivers/sim, and only with a sim source.
+TEST(LightCapture, RoomFromConfiguration) {
+  const RigCalibration calibration = sim::make_sim_rig(sim::SimOptions{}).calibration;
+  ServiceConfig c;
+  c.light_room = "sim";
+  EXPECT_NO_THROW(LightCapture(c, calibration));
+  c.source = "replay:/data/rec1";
+  EXPECT_THROW(LightCapture(c, calibration), std::invalid_argument);
+  c.light_room = "box";
+  c.light_room_max = Eigen::Vector3d(3, 3, 3);
+  EXPECT_NO_THROW(LightCapture(c, calibration));
 }
 
 }  // namespace

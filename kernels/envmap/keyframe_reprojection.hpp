@@ -1,0 +1,34 @@
+#pragma once
+// A keyframe seen from another position through the room box (docs/light-capture.md
+// "Parallax"): what an object away from the keyframe's position sees. CPU only: `eval light`
+// reprojects a host copy at its 32 px compare resolution once per run (~10 ms), and the
+// service needs only the object's SH, for which the reprojection is folded into the SH table
+// once per keyframe (light::ShProjector); an OpenCL version run per frame for the SH cost 1 ms
+// (2 x 2 samples per 32 px texel) to 3 ms (4 x 4) on PoCL, the table nothing.
+#include <Eigen/Core>
+#include <optional>
+
+#include "kernels/envmap/envmap_types.hpp"
+
+namespace probeless::envmap {
+
+// Texel directions d from `target` -> directions from the keyframe's position to the same
+// wall point (parallax_direction with offset target - keyframe, the box relative to target).
+// Disabled (directions kept) without a room or when either position is outside it.
+ParallaxConstants reprojection_constants(const std::optional<RoomBox>& room,
+                                         const Eigen::Vector3d& keyframe_position,
+                                         const Eigen::Vector3d& target);
+
+// texels: a keyframe (n x 6n). Returns m x 6m texels, each the mean of samples x samples
+// sub-texel directions from `target`, each box-projected and sampled bilinearly in the
+// keyframe (within its face, clamped at the edges). Bilinear rather than nearest: a point
+// nearer the object than the keyframe (the sim's window: 1.9 m from the object, 3.6 m from
+// the keyframe) is magnified, and nearest lookups shifted its structure by up to half a
+// keyframe texel (eval light at the object: 0.079 nearest, 0.071 bilinear). alpha 1 when every
+// keyframe texel with a weight was observed (alpha > 0), else 0; filled texels still give
+// their rgb (the SH needs the whole sphere).
+ImageRGBAF reproject_keyframe(const ImageRGBAF& texels, const Eigen::Vector3d& keyframe_position,
+                              const std::optional<RoomBox>& room, const Eigen::Vector3d& target,
+                              int m, int samples);
+
+}  // namespace probeless::envmap
