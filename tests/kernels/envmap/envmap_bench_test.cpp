@@ -2,7 +2,7 @@
 // with 128 px faces (issue #5's sizes). DISABLED_: run on demand and read the printed numbers
 // (docs/performance.md "Light capture: bench light"); no thresholds, the machine is shared.
 // The variants run interleaved, one call of each per round, so that they share the load.
-//   build/release/tests/test_kernels_envmap --gtest_also_run_disabled_tests \
+//   build/release/tests/test_kernels_envmap --gtest_also_run_disabled_tests
 //       --gtest_filter='*Bench*'
 #include <gtest/gtest.h>
 
@@ -14,6 +14,7 @@
 #include <iostream>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "envmap_test_support.hpp"
@@ -34,6 +35,7 @@ double cpu_ms() {
 }
 
 struct Variant {
+  Variant(std::string n, std::function<void()> r) : name(std::move(n)), run(std::move(r)) {}
   std::string name;
   std::function<void()> run;
   std::vector<double> wall, cpu;
