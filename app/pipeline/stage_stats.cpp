@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <iterator>
 #include <numeric>
 
 namespace probeless {
@@ -67,9 +68,15 @@ void RateMeter::tick(std::int64_t now_ns) {
 
 double RateMeter::rate_hz(std::int64_t now_ns) const {
   std::lock_guard lock(mutex_);
-  if (ticks_.size() < 2 || now_ns - ticks_.front() > kRateWindowNs) return 0.0;
-  const double span = static_cast<double>(ticks_.back() - ticks_.front()) * 1e-9;
-  return span > 0 ? static_cast<double>(ticks_.size() - 1) / span : 0.0;
+  // The window ends now, not at the last tick: tick() keeps the oldest tick up to a window
+  // before the newest one, and judging the whole list stale by that tick alone read 0 fps
+  // for any stream slower than a few frames per second (the sim under ASan, CVF on a board).
+  const auto first = std::find_if(ticks_.begin(), ticks_.end(),
+                                  [&](std::int64_t t) { return now_ns - t <= kRateWindowNs; });
+  const auto n = std::distance(first, ticks_.end());
+  if (n < 2) return 0.0;
+  const double span = static_cast<double>(ticks_.back() - *first) * 1e-9;
+  return span > 0 ? static_cast<double>(n - 1) / span : 0.0;
 }
 
 }  // namespace probeless
