@@ -36,6 +36,7 @@ void add_bench_sim_command(CLI::App& bench);
 
 // probeless eval light --source sim [--seconds S --json F] (eval_light_command.cpp)
 void add_eval_light_command(CLI::App& eval);
+void add_eval_render_command(CLI::App& eval);
 // probeless bench light [--frames N --json FILE] (bench_light_command.cpp)
 void add_bench_light_command(CLI::App& bench);
 

@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   probeless::cli::add_eval_occlusion_command(*eval);
   probeless::cli::add_eval_hdr_command(*eval);
   probeless::cli::add_eval_light_command(*eval);
+  probeless::cli::add_eval_render_command(*eval);
   probeless::cli::add_eval_sh_command(*eval);
 
   app.parse_complete_callback([&] { probeless::cli::setup_logging(log_level.c_str()); });

@@ -22,6 +22,7 @@ struct RunArgs {
   int port = -1;
   std::int64_t frames = 0;
   bool matte = false;
+  std::int64_t fault_hang_after = -1;
 };
 
 std::string status_line(const nlohmann::json& s) {
@@ -31,8 +32,8 @@ std::string status_line(const nlohmann::json& s) {
 }
 
 void run(const RunArgs& args) {
-  ServiceConfig config = args.config_path.empty() ? ServiceConfig{}
-                                                  : load_service_config(args.config_path);
+  ServiceConfig config =
+      args.config_path.empty() ? ServiceConfig{} : load_service_config(args.config_path);
   if (!args.source.empty()) config.source = args.source;
   if (!args.out_dir.empty()) config.output_dir = args.out_dir;
   if (!args.occlusion.empty()) config.occlusion_method = args.occlusion;
@@ -45,6 +46,7 @@ void run(const RunArgs& args) {
   SystemdNotifier notifier;
   PipelineOptions options;
   options.notifier = &notifier;
+  options.hang_after_frames = args.fault_hang_after;
   Pipeline pipeline(config, open_rig(config.source), options);
   pipeline.start();
   if (!pipeline.url().empty())
@@ -66,8 +68,7 @@ void run(const RunArgs& args) {
     if (ready) notifier.status(status_line(pipeline.status()));
   }
   notifier.stopping();
-  if (signals.stop_requested())
-    spdlog::info("signal {}: stopping", signals.signal_number());
+  if (signals.stop_requested()) spdlog::info("signal {}: stopping", signals.signal_number());
   pipeline.stop();
   const auto s = pipeline.status();
   spdlog::info("stopped: {}", status_line(s));
@@ -78,8 +79,13 @@ void run(const RunArgs& args) {
 
 void add_run_command(CLI::App& app) {
   auto args = std::make_shared<RunArgs>();
-  auto* cmd = app.add_subcommand("run", "Run the service (default: the synthetic rig, HTTP on "
-                                        "127.0.0.1:8080)");
+  auto* cmd = app.add_subcommand("run",
+                                 "Run the service (default: the synthetic rig, HTTP on "
+                                 "127.0.0.1:8080)");
+  // Not in --help: the watchdog test's fault (PipelineOptions::hang_after_frames).
+  cmd->add_option("--fault-hang-after", args->fault_hang_after,
+                  "Fault injection: hang the processing loop after N frames")
+      ->group("");
   cmd->add_option("--config", args->config_path, "TOML configuration (docs/configuration.md)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--source", args->source, "Rig: sim[:options], replay:DIR, tum:DIR");

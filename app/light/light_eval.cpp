@@ -19,12 +19,6 @@ namespace probeless::light {
 
 namespace {
 
-// The sim's fisheye (docs/sim.md "The fisheye"): raw = black + L t g S, S = 600 DN per unit
-// radiance per second at 0 dB on 12 bits, full scale white - black = 4095 - 256 = 3839 DN
-// (the 8-bit sensor scales S and the range alike). HDR conversion gives (raw - black) /
-// (white - black) / (t g) = L S / 3839, so L = converted x 3839 / 600 exactly.
-constexpr double kSimRadiancePerConverted = 3839.0 / 600.0;
-
 // Noise of the sim's 12-bit fisheye for the sequencer's predictions (docs/sim.md): read
 // 3 e- x 0.3839 DN/e- and 0.5 DN ADC; shot noise at full scale sqrt(3839 DN x 0.3839 DN/e-).
 constexpr double kReadNoiseDn = 1.26, kFullScaleNoiseDn = 38.4;
@@ -39,40 +33,6 @@ envmap::ImageRGBAF from_cubemap(const Cubemap& cube) {
         t.at(x, f * n + y, 3) = 1.0F;
       }
   return t;
-}
-
-// The room seen from `position` as a cubemap of n-px faces, one ray per texel centre: each
-// face is a 90-degree pinhole view. GL faces are mirror images of a right-handed camera
-// (s x t = -major), so the camera's x runs along -s and the image is flipped back.
-envmap::ImageRGBAF render_truth(const std::shared_ptr<const sim::SimWorld>& world,
-                                const Eigen::Vector3d& position, int lamp_state, int n) {
-  static const std::array<std::array<Eigen::Vector3d, 3>, 6> kAxes{{
-      {{{0, 0, -1}, {0, -1, 0}, {1, 0, 0}}},   // +X: s, t, major
-      {{{0, 0, 1}, {0, -1, 0}, {-1, 0, 0}}},   // -X
-      {{{1, 0, 0}, {0, 0, 1}, {0, 1, 0}}},     // +Y
-      {{{1, 0, 0}, {0, 0, -1}, {0, -1, 0}}},   // -Y
-      {{{1, 0, 0}, {0, -1, 0}, {0, 0, 1}}},    // +Z
-      {{{-1, 0, 0}, {0, -1, 0}, {0, 0, -1}}},  // -Z
-  }};
-  sim::WorkerPool pool(2);
-  const double f = 0.5 * n, c = 0.5 * (n - 1);
-  sim::SimRenderer renderer(world, n, n, f, f, c, c, &pool);
-  envmap::ImageRGBAF out = envmap::make_texels(n);
-  for (int face = 0; face < 6; ++face) {
-    Eigen::Matrix3d r;
-    r << -kAxes[face][0], kAxes[face][1], kAxes[face][2];
-    Pose T_world_camera;
-    T_world_camera.rotation = Eigen::Quaterniond(r);
-    T_world_camera.translation = position;
-    renderer.render(T_world_camera, lamp_state, nullptr, false);
-    const ImageRGBF& rad = renderer.radiance();
-    for (int y = 0; y < n; ++y)
-      for (int x = 0; x < n; ++x) {
-        for (int ch = 0; ch < 3; ++ch) out.at(x, face * n + y, ch) = rad.at(n - 1 - x, y, ch);
-        out.at(x, face * n + y, 3) = 1.0F;
-      }
-  }
-  return out;
 }
 
 // Strips of m x 6m side by side, 4x enlarged, log10 radiance from -1 to 4.5 over 0..255;
@@ -152,6 +112,40 @@ double relative_error(const ShRgb& est, const ShRgb& truth, int count) {
 }
 
 }  // namespace
+
+// The room seen from `position` as a cubemap of n-px faces, one ray per texel centre: each
+// face is a 90-degree pinhole view. GL faces are mirror images of a right-handed camera
+// (s x t = -major), so the camera's x runs along -s and the image is flipped back.
+envmap::ImageRGBAF render_truth_cubemap(const std::shared_ptr<const sim::SimWorld>& world,
+                                        const Eigen::Vector3d& position, int lamp_state, int n) {
+  static const std::array<std::array<Eigen::Vector3d, 3>, 6> kAxes{{
+      {{{0, 0, -1}, {0, -1, 0}, {1, 0, 0}}},   // +X: s, t, major
+      {{{0, 0, 1}, {0, -1, 0}, {-1, 0, 0}}},   // -X
+      {{{1, 0, 0}, {0, 0, 1}, {0, 1, 0}}},     // +Y
+      {{{1, 0, 0}, {0, 0, -1}, {0, -1, 0}}},   // -Y
+      {{{1, 0, 0}, {0, -1, 0}, {0, 0, 1}}},    // +Z
+      {{{-1, 0, 0}, {0, -1, 0}, {0, 0, -1}}},  // -Z
+  }};
+  sim::WorkerPool pool(2);
+  const double f = 0.5 * n, c = 0.5 * (n - 1);
+  sim::SimRenderer renderer(world, n, n, f, f, c, c, &pool);
+  envmap::ImageRGBAF out = envmap::make_texels(n);
+  for (int face = 0; face < 6; ++face) {
+    Eigen::Matrix3d r;
+    r << -kAxes[face][0], kAxes[face][1], kAxes[face][2];
+    Pose T_world_camera;
+    T_world_camera.rotation = Eigen::Quaterniond(r);
+    T_world_camera.translation = position;
+    renderer.render(T_world_camera, lamp_state, nullptr, false);
+    const ImageRGBF& rad = renderer.radiance();
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x) {
+        for (int ch = 0; ch < 3; ++ch) out.at(x, face * n + y, ch) = rad.at(n - 1 - x, y, ch);
+        out.at(x, face * n + y, 3) = 1.0F;
+      }
+  }
+  return out;
+}
 
 envmap::ImageRGBAF average_observed(const envmap::ImageRGBAF& texels, int m,
                                     std::vector<bool>& observed) {
@@ -252,7 +246,7 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
   report.settle_cycles = last_change_cycle;
   report.total = summarize(estimator.stats().all_samples("total"));
   report.rule = envmap::to_string(o.estimator.update.rule);
-  report.scale = kSimRadiancePerConverted;
+  report.scale = sim::fisheye_radiance_per_converted();
 
   const Eigen::Vector3d probe = sim::light_probe_position();
   const envmap::Keyframe* keyframe = estimator.keyframes().nearest(probe);
@@ -311,7 +305,7 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
   const int lamps = sim::SimWorld::lamp_state(t_last);
   std::vector<bool> all_observed;
   const envmap::ImageRGBAF truth_keyframe =
-      average_observed(render_truth(world, keyframe->position, lamps, n), m, all_observed);
+      average_observed(render_truth_cubemap(world, keyframe->position, lamps, n), m, all_observed);
   report.at_keyframe =
       compare(est_keyframe, truth_keyframe, "the room rendered from the keyframe's position");
 
@@ -319,7 +313,7 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
       (*trajectory.at(frame.timestamp_ns) * rig.calibration.T_rig_fisheye).translation;
   report.keyframe_to_last_capture_m = (last_capture - keyframe->position).norm();
   const envmap::ImageRGBAF truth_last =
-      average_observed(render_truth(world, last_capture, lamps, n), m, all_observed);
+      average_observed(render_truth_cubemap(world, last_capture, lamps, n), m, all_observed);
   const envmap::ImageRGBAF est_last = room ? seen_from(last_capture) : est_keyframe;
   report.at_last_capture = compare(est_last, truth_last,
                                    room ? "the room rendered from the fisheye's last position, "

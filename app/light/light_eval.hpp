@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/light/light_estimator.hpp"
+#include "drivers/sim/sim_world.hpp"
 
 namespace probeless::light {
 
@@ -64,6 +65,10 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& options);
 // resolution; `observed` marks the compared texels of est.
 TruthComparison compare_cubemaps(const envmap::ImageRGBAF& est, const envmap::ImageRGBAF& truth,
                                  const std::vector<bool>& observed);
+// The sim's room seen from `position` under `lamp_state` as n x 6n texels (the keyframe
+// layout), one ray per texel centre; alpha 1. Box-average a larger one for a smoother truth.
+envmap::ImageRGBAF render_truth_cubemap(const std::shared_ptr<const sim::SimWorld>& world,
+                                        const Eigen::Vector3d& position, int lamp_state, int n);
 // Box-average of an n x 6n keyframe to m-px faces; a texel is observed when all of its n/m
 // x n/m sources are (alpha > 0).
 envmap::ImageRGBAF average_observed(const envmap::ImageRGBAF& texels, int m,

@@ -6,21 +6,6 @@
 
 namespace probeless {
 
-namespace {
-
-// Only the rough metal reads the prefiltered levels; without one, a light update is an upload
-// and the box chain (~2.4 ms) instead of the GGX pass as well (~11 ms at 128 px faces).
-render::RendererConfig renderer_config_for(const std::vector<render::VirtualObject>& objects) {
-  render::RendererConfig config;
-  const bool rough = std::any_of(objects.begin(), objects.end(), [](const auto& o) {
-    return o.material.shading == render::Material::Shading::RoughMetal;
-  });
-  if (!rough) config.prefilter.levels = 1;
-  return config;
-}
-
-}  // namespace
-
 RenderStage::RenderStage(std::vector<render::VirtualObject> objects, PinholeIntrinsics intrinsics,
                          LightSource light)
     : renderer_(renderer_config_for(objects)),

@@ -5,6 +5,7 @@
 
 #include <chrono>
 
+#include "app/light/colour_fill.hpp"
 #include "app/light/light_estimator.hpp"
 #include "app/light/room_proxy.hpp"
 #include "app/light/sh_projector.hpp"
@@ -63,6 +64,12 @@ bool is_sim(const std::string& source) {
 // [light] room (docs/configuration.md): the room box parallax takes, if any.
 std::optional<envmap::RoomBox> room_of(const ServiceConfig& c) {
   if (c.light_room == "box") return envmap::RoomBox{c.light_room_min, c.light_room_max};
+  // The default: the sim's room has a known box (so `probeless run` lights the objects from
+  // the keyframe reprojected to them); a real room's is not known without a config.
+  if (c.light_room == "auto") {
+    if (is_sim(c.source)) return light::sim_room_box();
+    return std::nullopt;
+  }
   if (c.light_room == "sim") {
     if (!is_sim(c.source))
       throw std::invalid_argument(
@@ -128,10 +135,10 @@ void LightCapture::offer_rgbd(const RgbdFrame& frame) {
   rgbd_ = std::move(copy);
 }
 
-std::optional<Pose> LightCapture::rig_pose_at(const FisheyeFrame& frame) const {
-  if (frame.truth && frame.truth->rig_pose) return frame.truth->rig_pose;
+std::optional<Pose> LightCapture::rig_pose_at(
+    TimestampNs t, const std::shared_ptr<const FrameTruth>& truth) const {
+  if (truth && truth->rig_pose) return truth->rig_pose;
   std::lock_guard lock(mutex_);
-  const TimestampNs t = frame.timestamp_ns;
   for (std::size_t i = 1; i < poses_.size(); ++i) {
     const auto& [t0, p0] = poses_[i - 1];
     const auto& [t1, p1] = poses_[i];
@@ -149,7 +156,7 @@ void LightCapture::fail(const std::string& what) {
   error_ = what;
 }
 
-void LightCapture::run(std::stop_token stop, StageStats& stats) {
+bool LightCapture::initialise() {
   try {
     ComputeOptions options;
     if (!config_.cl_platform.empty()) options.selector.platform_substring = config_.cl_platform;
@@ -173,12 +180,16 @@ void LightCapture::run(std::stop_token stop, StageStats& stats) {
         calibration_.rgb, calibration_.fisheye, calibration_.T_rig_rgb, calibration_.T_rig_fisheye,
         cp);
   } catch (const std::exception& e) {
-    return fail(e.what());
+    fail(e.what());
+    return false;
   }
-  {
-    std::lock_guard lock(mutex_);
-    state_ = "running";
-  }
+  std::lock_guard lock(mutex_);
+  state_ = "running";
+  return true;
+}
+
+void LightCapture::run(std::stop_token stop, StageStats& stats) {
+  if (!initialise()) return;
   while (!stop.stop_requested()) {
     FisheyeFrame frame;
     {
@@ -189,38 +200,50 @@ void LightCapture::run(std::stop_token stop, StageStats& stats) {
       frame = std::move(queue_.front());
       queue_.pop_front();
     }
-    const std::optional<Pose> pose = rig_pose_at(frame);
-    const auto t0 = std::chrono::steady_clock::now();
-    try {
-      const auto& keyframe = estimator_->light->process(frame, pose.value_or(Pose::identity()));
-      stats.record(
+    if (!process(frame, &stats)) return;
+  }
+}
+
+bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
+  {
+    std::lock_guard lock(mutex_);
+    if (state_ != "running") return false;
+  }
+  const std::optional<Pose> pose = rig_pose_at(frame.timestamp_ns, frame.truth);
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    const auto& keyframe = estimator_->light->process(frame, pose.value_or(Pose::identity()));
+    if (stats)
+      stats->record(
           "light",
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-      std::lock_guard lock(mutex_);
-      ++processed_;
-      if (!pose) ++without_pose_;
-      keyframes_ = static_cast<int>(estimator_->light->keyframes().keyframes().size());
-      active_keyframe_ = keyframe.id;
-      sh_ = estimator_->light->sh();
-    } catch (const std::exception& e) {
-      return fail(e.what());
-    }
-    try {
-      update_colour_exposure(frame);
-    } catch (const std::exception& e) {
-      // A colour frame the estimator cannot use (sizes not the calibration's) must not stop
-      // the light: say it once and go on with the previous estimate.
-      spdlog::warn("light capture: colour exposure: {}", e.what());
-      estimator_->colour.reset();
-      std::lock_guard lock(mutex_);
-      colour_error_ = e.what();
-    }
-    try {
-      publish(frame);
-    } catch (const std::exception& e) {
-      return fail(e.what());
-    }
+    std::lock_guard lock(mutex_);
+    ++processed_;
+    if (!pose) ++without_pose_;
+    keyframes_ = static_cast<int>(estimator_->light->keyframes().keyframes().size());
+    active_keyframe_ = keyframe.id;
+    sh_ = estimator_->light->sh();
+  } catch (const std::exception& e) {
+    fail(e.what());
+    return false;
   }
+  try {
+    update_colour_exposure(frame);
+  } catch (const std::exception& e) {
+    // A colour frame the estimator cannot use (sizes not the calibration's) must not stop
+    // the light: say it once and go on with the previous estimate.
+    spdlog::warn("light capture: colour exposure: {}", e.what());
+    estimator_->colour.reset();
+    std::lock_guard lock(mutex_);
+    colour_error_ = e.what();
+  }
+  try {
+    publish(frame);
+  } catch (const std::exception& e) {
+    fail(e.what());
+    return false;
+  }
+  return true;
 }
 
 // The colour camera's exposure against a medium-level frame (the level with the most usable
@@ -238,6 +261,7 @@ void LightCapture::update_colour_exposure(const FisheyeFrame& frame) {
   if (!rgbd) return;
   last_colour_exposure_ns_ = frame.timestamp_ns;
   estimator_->colour->update(*rgbd, frame);
+  fill_rgbd_ = std::move(rgbd);
 }
 
 void LightCapture::publish(const FisheyeFrame& frame) {
@@ -258,12 +282,24 @@ void LightCapture::publish(const FisheyeFrame& frame) {
         envmap::reproject_keyframe(snap->texels, keyframe->position, room_, light_point_, n, 1);
     snap->position = light_point_;
   }
+  int filled_texels = 0;
+  if (config_.light_colour_fill && fill_rgbd_ && estimator_->colour &&
+      estimator_->colour->estimate().valid) {
+    // Below the fisheye's horizon, the colour camera's view (app/light/colour_fill.hpp).
+    if (const auto T_world_rig = rig_pose_at(fill_rgbd_->timestamp_ns, fill_rgbd_->truth)) {
+      const auto filled = light::fill_from_colour(
+          snap->texels, snap->position, *fill_rgbd_, calibration_.rgb.intrinsics(),
+          *T_world_rig * calibration_.T_rig_rgb, estimator_->colour->estimate().e);
+      filled_texels = filled.filled_texels;
+    }
+  }
   snap->sh = estimator_->sh->project(box_average(snap->texels, kShFaceSize));
   if (estimator_->colour) {
     snap->colour_exposure = estimator_->colour->estimate().e;
     snap->colour_exposure_valid = estimator_->colour->estimate().valid;
   }
   std::lock_guard lock(mutex_);
+  colour_filled_texels_ = filled_texels;
   snap->version = ++snapshot_version_;
   snapshot_ = std::move(snap);
 }
@@ -275,10 +311,13 @@ std::shared_ptr<const LightSnapshot> LightCapture::latest_light() const {
 
 nlohmann::json LightCapture::status() const {
   std::lock_guard lock(mutex_);
-  nlohmann::json j = {{"state", state_},           {"frames", processed_},
-                      {"dropped", dropped_},       {"frames_without_pose", without_pose_},
-                      {"keyframes", keyframes_},   {"active_keyframe", active_keyframe_},
-                      {"room", config_.light_room}};
+  nlohmann::json j = {{"state", state_},
+                      {"frames", processed_},
+                      {"dropped", dropped_},
+                      {"frames_without_pose", without_pose_},
+                      {"keyframes", keyframes_},
+                      {"active_keyframe", active_keyframe_},
+                      {"room", room_ ? (config_.light_room == "box" ? "box" : "sim") : "off"}};
   if (sh_) {
     // L00 times Y00 = the mean radiance over the sphere, per channel (up to the constant the
     // HDR conversion leaves).
@@ -286,7 +325,9 @@ nlohmann::json LightCapture::status() const {
     j["mean_radiance"] = {mean.x(), mean.y(), mean.z()};
   }
   if (snapshot_) {
-    j["snapshot"] = {{"version", snapshot_->version}, {"keyframe", snapshot_->keyframe_id}};
+    j["snapshot"] = {{"version", snapshot_->version},
+                     {"keyframe", snapshot_->keyframe_id},
+                     {"colour_filled_texels", colour_filled_texels_}};
     j["colour_exposure"] = {{"valid", snapshot_->colour_exposure_valid},
                             {"error", colour_error_},
                             {"e",

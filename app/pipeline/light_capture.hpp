@@ -61,6 +61,13 @@ class LightCapture {
 
   // The light thread's body: until stop is requested. Builds the OpenCL context first.
   void run(std::stop_token stop, StageStats& stats);
+  // run() in two steps, for a caller that drives the stage itself frame by frame (`eval
+  // render` takes every sim frame in order, deterministically): initialise() builds the
+  // OpenCL context and the estimators; process() takes one frame through the update, the
+  // colour exposure and publishing. Both return false once the stage has failed (status()
+  // says why); neither may run beside run().
+  bool initialise();
+  bool process(const FisheyeFrame& frame, StageStats* stats = nullptr);
 
   nlohmann::json status() const;
   std::optional<ShRgb> latest_sh() const;  // radiance SH of the keyframe last updated
@@ -68,7 +75,9 @@ class LightCapture {
   std::shared_ptr<const LightSnapshot> latest_light() const;
 
  private:
-  std::optional<Pose> rig_pose_at(const FisheyeFrame& frame) const;
+  // T_world_rig at t: the frame's truth when it has one, else the RGB-D poses interpolated.
+  std::optional<Pose> rig_pose_at(TimestampNs t,
+                                  const std::shared_ptr<const FrameTruth>& truth) const;
   void fail(const std::string& what);
   void update_colour_exposure(const FisheyeFrame& frame);
   void publish(const FisheyeFrame& frame);
@@ -93,6 +102,10 @@ class LightCapture {
   std::optional<envmap::RoomBox> room_;                    // [light] room
   bool want_rgbd_ = true;
   std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took
+  // The colour frame the exposure was last estimated on: what fills the snapshot below the
+  // fisheye's horizon ([light] colour_fill; app/light/colour_fill.hpp).
+  std::shared_ptr<const RgbdFrame> fill_rgbd_;
+  int colour_filled_texels_ = 0;
   TimestampNs last_colour_exposure_ns_ = 0;
   std::string state_ = "starting", error_, colour_error_;
 };

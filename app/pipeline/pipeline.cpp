@@ -257,6 +257,12 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
     output_.publish(std::move(out));
     fps_.tick(monotonic_now_ns());
     const auto n = ++processed_;
+    if (options_.hang_after_frames >= 0 &&
+        static_cast<std::int64_t>(n) >= options_.hang_after_frames) {
+      spdlog::warn("fault injection: the processing loop hangs after {} frames", n);
+      while (!stop.stop_requested()) std::this_thread::sleep_for(50ms);
+      return;
+    }
     if (config_.max_frames > 0 && static_cast<std::int64_t>(n) >= config_.max_frames)
       return finish();
   }

@@ -47,6 +47,11 @@ struct PipelineOptions {
   bool keep_matte = false;
   bool serve_http = true;               // from config unless false here (benchmarks)
   SystemdNotifier* notifier = nullptr;  // WATCHDOG=1 from the processing loop when set
+  // Fault injection for the watchdog test (`run --fault-hang-after N`): after N frames the
+  // processing loop stops working, as one stuck in a driver or OpenCL call would: no frames,
+  // no WATCHDOG=1, while every other thread goes on. It still honours stop(), so the test
+  // can end it with SIGTERM. -1: off.
+  std::int64_t hang_after_frames = -1;
 };
 
 class Pipeline {

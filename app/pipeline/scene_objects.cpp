@@ -1,5 +1,6 @@
 #include "app/pipeline/scene_objects.hpp"
 
+#include <algorithm>
 #include <numbers>
 
 #include "app/render/prt/prt.hpp"
@@ -112,6 +113,15 @@ std::vector<render::VirtualObject> placeholder_objects(
     out.push_back(std::move(o));
   }
   return out;
+}
+
+render::RendererConfig renderer_config_for(const std::vector<render::VirtualObject>& objects) {
+  render::RendererConfig config;
+  const bool rough = std::any_of(objects.begin(), objects.end(), [](const auto& o) {
+    return o.material.shading == render::Material::Shading::RoughMetal;
+  });
+  if (!rough) config.prefilter.levels = 1;
+  return config;
 }
 
 }  // namespace probeless

@@ -142,15 +142,18 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
   }
   if (auto* t = r.optional_table(root, "light")) {
     r.only(*t, "[light]",
-           {"enabled", "face_size", "keyframe_distance_m", "room", "room_min", "room_max"});
+           {"enabled", "face_size", "keyframe_distance_m", "room", "room_min", "room_max",
+            "colour_fill"});
     r.get(*t, "enabled", c.light_enabled);
     r.get(*t, "face_size", c.light_face_size);
     r.get(*t, "keyframe_distance_m", c.light_keyframe_distance_m);
     r.get(*t, "room", c.light_room);
+    r.get(*t, "colour_fill", c.light_colour_fill);
     r.get_vector<3>(*t, "room_min", c.light_room_min);
     r.get_vector<3>(*t, "room_max", c.light_room_max);
-    if (c.light_room != "off" && c.light_room != "sim" && c.light_room != "box")
-      r.fail(t->get("room"), "room must be \"off\", \"sim\" or \"box\"");
+    if (c.light_room != "off" && c.light_room != "auto" && c.light_room != "sim" &&
+        c.light_room != "box")
+      r.fail(t->get("room"), "room must be \"off\", \"auto\", \"sim\" or \"box\"");
     const bool has_box = t->get("room_min") || t->get("room_max");
     if (c.light_room == "box") {
       if (!t->get("room_min") || !t->get("room_max"))

@@ -75,7 +75,11 @@ struct ServiceConfig {
   // thesis's keyframes), "sim" (the synthetic rig's room; sim sources only), "box" (an
   // axis-aligned box from light_room_min to light_room_max, world metres). With a room the
   // SH is of the keyframe seen from the first object.
-  std::string light_room = "off";
+  // Texels the fisheye never saw (below its horizon: the table) from the colour camera
+  // (app/light/colour_fill.hpp). Off: measured worse than without (docs/light-capture.md
+  // "Below the horizon").
+  bool light_colour_fill = false;
+  std::string light_room = "auto";  // off | auto (sim's box under the sim) | sim | box
   Eigen::Vector3d light_room_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d light_room_max = Eigen::Vector3d::Zero();
 

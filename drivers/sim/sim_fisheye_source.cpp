@@ -39,7 +39,8 @@ SimFisheyeSource::SimFisheyeSource(std::shared_ptr<const SimWorld> world, const 
     : world_(std::move(world)),
       options_(options),
       geometry_(geometry),
-      pacer_(start_ns, options.fisheye_fps, options.fisheye_realtime.value_or(options.realtime)),
+      pacer_(start_ns, options.fisheye_fps, options.fisheye_realtime.value_or(options.realtime),
+             options.start_s),
       pool_(options.render_threads),
       renderer_(world_, *camera, &pool_),
       end_index_(options.max_frames < 0

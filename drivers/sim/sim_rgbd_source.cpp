@@ -55,7 +55,7 @@ SimRgbdSource::SimRgbdSource(std::shared_ptr<const SimWorld> world, const SimOpt
     : world_(std::move(world)),
       options_(options),
       geometry_(geometry),
-      pacer_(start_ns, options.rgbd_fps, options.realtime),
+      pacer_(start_ns, options.rgbd_fps, options.realtime, options.start_s),
       pool_(options.render_threads),
       renderer_(world_, geometry.width, geometry.height, geometry.fx, geometry.fy, geometry.cx,
                 geometry.cy, &pool_),

@@ -124,12 +124,15 @@ SimOptions parse_sim_options(std::string_view spec) {
     } else if (key == "threads") {
       o.render_threads = parse_number<int>(key, value, "an integer");
       if (o.render_threads < 1 || o.render_threads > 64) bad(key, value, "1..64");
+    } else if (key == "start") {
+      o.start_s = parse_number<double>(key, value, "seconds");
+      if (!(o.start_s >= 0 && o.start_s <= 86400)) bad(key, value, "0..86400 seconds");
     } else {
       throw std::invalid_argument(
           "sim option '" + std::string(key) +
           "': unknown (known: seed, trajectory, fps, rgbd_fps, fisheye_fps, realtime, "
           "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, frames, stall, truth, "
-          "threads)");
+          "threads, start)");
     }
   }
   return o;

@@ -37,13 +37,17 @@ struct SimOptions {
   std::int64_t stall_begin = -1, stall_end = -1;
   bool ground_truth = true;  // attach FrameTruth
   int render_threads = 2;    // per source; rendering is split across rows
+  // The scripted world's time at the first frame (orbit angle, lamp switches, the arm):
+  // `eval render` starts shortly before a lamp switch instead of rendering 6 s to reach one.
+  double start_s = 0;
 };
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
 // "sim:"); throws std::invalid_argument naming the bad key. Keys: seed, trajectory
 // (static|orbit|handheld), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_realtime,
 // fisheye_size,
-// fisheye_bits, fisheye_fov, frames (max_frames), stall (BEGIN:END), truth, threads.
+// fisheye_bits, fisheye_fov, frames (max_frames), stall (BEGIN:END), truth, threads, start
+// (seconds of world time at the first frame).
 SimOptions parse_sim_options(std::string_view spec);
 
 // Rig from drivers/source.hpp (rgbd + fisheye + calibration). Both sources share one
@@ -60,5 +64,10 @@ Eigen::Vector3d light_probe_position();
 // {lo, hi}. What a room proxy for light-capture parallax takes (docs/light-capture.md
 // "Parallax"); the lamps are in the ceiling and the window in the back wall, on the box.
 std::array<Eigen::Vector3d, 2> room_bounds();
+// Sim radiance per unit of the HDR conversion's output for the sim's fisheye (docs/sim.md
+// "The fisheye"): raw = black + L t g S with S = 600 DN per unit radiance per second at 0 dB
+// on 12 bits and full scale white - black = 3839 DN (the 8-bit sensor scales both alike), and
+// the conversion gives (raw - black) / (white - black) / (t g), so L = converted x 3839 / 600.
+double fisheye_radiance_per_converted();
 
 }  // namespace probeless::sim

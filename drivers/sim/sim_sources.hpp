@@ -16,10 +16,13 @@ namespace probeless::sim {
 // Frame index -> time and wall-clock pacing, shared by both sources' logic.
 class FramePacer {
  public:
-  FramePacer(TimestampNs start_ns, double fps, bool realtime)
-      : start_ns_(start_ns), fps_(fps), realtime_(realtime) {}
+  // start_s: the scripted world time of frame 0 (SimOptions::start_s); timestamps still
+  // start at start_ns.
+  FramePacer(TimestampNs start_ns, double fps, bool realtime, double start_s = 0)
+      : start_ns_(start_ns), fps_(fps), realtime_(realtime), start_s_(start_s) {}
   bool realtime() const { return realtime_; }
-  double seconds(std::int64_t index) const { return index / fps_; }
+  // World time of a frame: what the trajectory, the lamps and the arm are evaluated at.
+  double seconds(std::int64_t index) const { return start_s_ + index / fps_; }
   TimestampNs timestamp(std::int64_t index) const {
     return start_ns_ + static_cast<TimestampNs>(std::llround(index * 1e9 / fps_));
   }
@@ -32,6 +35,7 @@ class FramePacer {
   TimestampNs start_ns_;
   double fps_;
   bool realtime_;
+  double start_s_;
 };
 
 struct RigGeometry {

@@ -107,6 +107,10 @@ Eigen::Vector3d object_anchor() {
 double table_top_height_m() {
   return kTableTop;
 }
+double fisheye_radiance_per_converted() {
+  return 3839.0 / 600.0;
+}
+
 Eigen::Vector3d light_probe_position() {
   return kAnchor + Eigen::Vector3d(0, 0, 0.1);
 }

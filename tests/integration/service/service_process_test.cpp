@@ -204,6 +204,42 @@ TEST(Service, NotifiesSystemdReadyStatusAndWatchdog) {
   EXPECT_EQ(*code, 0);
 }
 
+// The watchdog catches a hung pipeline (issue #7): with the processing loop stuck after 60
+// frames (`--fault-hang-after`, as a stuck driver or OpenCL call would leave it) the beats
+// stop, while the process lives on (systemd, not the service, ends it after WatchdogSec).
+TEST(Service, HungPipelineStopsTheWatchdog) {
+  char tmpl[] = "/tmp/probeless-notify-XXXXXX";
+  ASSERT_NE(::mkdtemp(tmpl), nullptr);
+  const std::filesystem::path dir = tmpl;
+  NotifySocket sock(dir / "notify.sock");
+  std::unique_ptr<Subprocess> proc;
+  const int port = start_service(
+      proc, {"--fault-hang-after", "60"},
+      {{"NOTIFY_SOCKET", (dir / "notify.sock").string()}, {"WATCHDOG_USEC", "400000"}});
+  ASSERT_GT(port, 0);
+  // Beats every 200 ms while frames flow; then a silence of 2 s (five intervals) must come.
+  int beats = 0;
+  bool silent = false;
+  const auto deadline = std::chrono::steady_clock::now() + 120s;
+  while (std::chrono::steady_clock::now() < deadline && !silent) {
+    int in_window = 0;
+    for (const auto& msg : sock.receive_for(2s))
+      if (msg.find("WATCHDOG=1") != std::string::npos) ++in_window;
+    beats += in_window;
+    silent = beats > 0 && in_window == 0;
+  }
+  EXPECT_GE(beats, 2) << "the watchdog beat while frames flowed";
+  EXPECT_TRUE(silent) << "the beats went on although the pipeline hung";
+  const nlohmann::json s = get_status(port);
+  EXPECT_EQ(s["frames"]["processed"], 60) << s.dump();
+  EXPECT_FALSE(proc->wait(0s).has_value()) << "the process must live on for systemd to kill";
+  proc->send_signal(SIGTERM);
+  const auto code = proc->wait(10s);
+  std::filesystem::remove_all(dir);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 0);
+}
+
 // Fault injection in the sim: RGB-D frames 45..105 are not delivered (2 s at 30 Hz).
 TEST(Service, SourceStallShowsNoSignalThenRecovers) {
   std::unique_ptr<Subprocess> proc;

@@ -138,7 +138,7 @@ TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[light]\nroom_min = [0, 0, 0]\nroom_max = [1, 1, 1]\n"),
                ParseError);  // a box without room = "box"
   EXPECT_EQ(parse_service_config("[light]\nroom = \"sim\"\n").light_room, "sim");
-  EXPECT_EQ(parse_service_config("").light_room, "off");
+  EXPECT_EQ(parse_service_config("").light_room, "auto");
   EXPECT_THROW(parse_service_config("[[object]]\nmaterial = \"velvet\"\n"), ParseError);
   EXPECT_THROW(parse_service_config("[[object]]\nroughness = 1.5\n"), ParseError);
   EXPECT_THROW(parse_service_config("[[object]]\nior = 0\n"), ParseError);
@@ -155,10 +155,15 @@ TEST(ServiceConfig, TheShippedConfigurationParses) {
   EXPECT_EQ(c.light_room, "sim");
 }
 
-// [light] room = "sim" takes the box from drivers/sim, and only with a sim source.
+// [light] room = "sim" takes the box from drivers/sim, and only with a sim source; "auto" (the
+// default) is the sim's box under the sim and no box under anything else.
 TEST(LightCapture, RoomFromConfiguration) {
   const RigCalibration calibration = sim::make_sim_rig(sim::SimOptions{}).calibration;
   ServiceConfig c;
+  EXPECT_EQ(LightCapture(c, calibration).status()["room"], "sim");
+  c.source = "replay:/data/rec1";
+  EXPECT_EQ(LightCapture(c, calibration).status()["room"], "off");
+  c.source = "sim";
   c.light_room = "sim";
   EXPECT_NO_THROW(LightCapture(c, calibration));
   c.source = "replay:/data/rec1";

@@ -34,7 +34,7 @@ FisheyeFrame read_fisheye(Rig& rig) {
 TEST(SimOptions, ParsesEveryKey) {
   const SimOptions o = parse_sim_options(
       "seed=3,trajectory=static,fps=60,fisheye_fps=50,realtime=0,stall=60:120,frames=500,"
-      "fisheye_size=256,fisheye_bits=8,fisheye_fov=185,truth=0,threads=1");
+      "fisheye_size=256,fisheye_bits=8,fisheye_fov=185,truth=0,threads=1,start=4.5");
   EXPECT_EQ(o.seed, 3u);
   EXPECT_EQ(o.trajectory, TrajectoryKind::Static);
   EXPECT_EQ(o.rgbd_fps, 60);
@@ -48,6 +48,7 @@ TEST(SimOptions, ParsesEveryKey) {
   EXPECT_EQ(o.fisheye_fov_deg, 185);
   EXPECT_FALSE(o.ground_truth);
   EXPECT_EQ(o.render_threads, 1);
+  EXPECT_EQ(o.start_s, 4.5);
   EXPECT_FALSE(o.fisheye_realtime.has_value()) << "unset: follows realtime";
   EXPECT_EQ(parse_sim_options("realtime=0,fisheye_realtime=1").fisheye_realtime, true);
   EXPECT_EQ(parse_sim_options("seed=1").seed, 1u);
@@ -55,8 +56,9 @@ TEST(SimOptions, ParsesEveryKey) {
 }
 
 TEST(SimOptions, ErrorsNameTheKey) {
-  for (const char* spec : {"sed=3", "seed=x", "trajectory=spiral", "stall=5", "fisheye_bits=10",
-                           "fisheye_size=4096", "fps=-1", "realtime=maybe", "fisheye_realtime=2"}) {
+  for (const char* spec :
+       {"sed=3", "seed=x", "trajectory=spiral", "stall=5", "fisheye_bits=10", "fisheye_size=4096",
+        "fps=-1", "realtime=maybe", "fisheye_realtime=2", "start=-1", "start=soon"}) {
     try {
       parse_sim_options(spec);
       ADD_FAILURE() << spec << " was accepted";
@@ -183,6 +185,22 @@ TEST(SimRig, LightChangesOnlyWithTheLamps) {
     }
   }
   EXPECT_GE(hi / lo, 1e4f);
+}
+
+// start=S moves the scripted world, not the timestamps: started at 5 s, the sixth frame at
+// 1 fps is already past the 6 s lamp switch, and the first frame sees the orbit at 5 s.
+TEST(SimRig, StartOffsetsTheScriptedWorld) {
+  Rig late = open("realtime=0,fps=1,start=5");
+  Rig early = open("realtime=0,fps=1");
+  const RgbdFrame l0 = read_rgbd(late);
+  std::vector<RgbdFrame> e;
+  for (int i = 0; i < 6; ++i) e.push_back(read_rgbd(early));
+  ASSERT_TRUE(l0.truth->rig_pose && e[5].truth->rig_pose);
+  EXPECT_LT((l0.truth->rig_pose->translation - e[5].truth->rig_pose->translation).norm(), 1e-9);
+  EXPECT_EQ(l0.truth->light, e[5].truth->light) << "lamp B still on at 5 s";
+  const RgbdFrame l1 = read_rgbd(late);
+  EXPECT_NE(l1.truth->light, l0.truth->light) << "and off at 6 s";
+  EXPECT_EQ(l1.timestamp_ns - l0.timestamp_ns, 1'000'000'000) << "timestamps step as before";
 }
 
 // Mean linear intensity of an 8-bit gamma-2.2 image, and its log-mean (floored at 1e-3).

@@ -1,0 +1,340 @@
+#include "app/eval/render_eval.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "app/light/light_eval.hpp"
+#include "app/pipeline/light_capture.hpp"
+#include "app/pipeline/scene_objects.hpp"
+#include "app/render/renderer.hpp"
+#include "core/exposure_count.hpp"
+#include "drivers/bracket/bracket_sequencer.hpp"
+#include "drivers/io/png.hpp"
+#include "drivers/sim/sim_rig.hpp"
+#include "drivers/sim/sim_world.hpp"
+#include "kernels/envmap/envmap_types.hpp"
+
+namespace probeless::eval {
+namespace {
+
+using render::ImageRGBAF;
+
+// The sim's scripted lamp switch the run is placed around (SimWorld::lamp_state: lamp B is on
+// for the first half of every 12 s period).
+constexpr double kSwitchWorldS = 6.0;
+// The tolerance for "matching ground truth" after a lamp switch.
+constexpr double kLampTolerance = 0.10;
+// A ground pixel is in the shadow region when the truth's change there is at least this share
+// of its largest: the contact shadow, not the faint far tail of the transfer difference.
+constexpr double kShadowShare = 0.10;
+// The chrome sphere: the size of the default scene's mirror sphere, seen from 0.6 m.
+constexpr float kSphereRadius = 0.1f;
+constexpr double kSphereDistance = 0.6;
+
+double luminance(const ImageRGBAF& img, int x, int y) {
+  return 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2);
+}
+
+std::shared_ptr<const render::Environment> scaled_environment(const LightSnapshot& snap,
+                                                              double scale) {
+  ImageRGBAF faces = snap.texels;
+  for (int y = 0; y < faces.height(); ++y)
+    for (int x = 0; x < faces.width(); ++x)
+      for (int c = 0; c < 3; ++c) faces.at(x, y, c) *= static_cast<float>(scale);
+  ShRgb sh = snap.sh;
+  for (auto& c : sh.c) c *= scale;
+  return std::make_shared<const render::Environment>(render::make_environment(faces, sh));
+}
+
+// The sim's room from `where` at face size n, s x s rays per texel (box-averaged).
+std::shared_ptr<const render::Environment> truth_environment(
+    const std::shared_ptr<const sim::SimWorld>& world, const Eigen::Vector3d& where, int lamps,
+    int n, int s) {
+  std::vector<bool> observed;
+  const ImageRGBAF fine = light::render_truth_cubemap(world, where, lamps, n * s);
+  const ImageRGBAF texels = light::average_observed(fine, n, observed);
+  return std::make_shared<const render::Environment>(
+      render::make_environment(envmap::to_cubemap(texels)));
+}
+
+std::vector<render::VirtualObject> lit_by(std::vector<render::VirtualObject> objects,
+                                          const std::shared_ptr<const render::Environment>& env) {
+  for (auto& o : objects) o.environment = env;
+  return objects;
+}
+
+ImageRGBAF render_float(render::Renderer& renderer, const render::Camera& camera,
+                        const std::vector<render::VirtualObject>& objects) {
+  render::RenderTarget target;
+  target.output = render::ColourOutput::LinearFloat;
+  renderer.render(camera, objects, target);
+  return target.radiance;
+}
+
+double mean_luminance(const ImageRGBAF& img) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < img.height(); ++y)
+    for (int x = 0; x < img.width(); ++x)
+      if (img.at(x, y, 3) > 0.5f) {
+        sum += luminance(img, x, y);
+        ++n;
+      }
+  return n > 0 ? sum / n : 0.0;
+}
+
+// Side by side, one exposure for all (mid grey at the truth's median over `mask`), gamma 2.2;
+// with `difference`, a third panel |a - b| x 4.
+void write_panels(const std::string& path, const ImageRGBAF& a, const ImageRGBAF& b,
+                  const std::vector<bool>& mask, bool difference) {
+  std::vector<double> lum;
+  for (int y = 0; y < b.height(); ++y)
+    for (int x = 0; x < b.width(); ++x)
+      if (mask[static_cast<std::size_t>(y * b.width() + x)]) lum.push_back(luminance(b, x, y));
+  double exposure = 1;
+  if (!lum.empty()) {
+    std::nth_element(lum.begin(), lum.begin() + lum.size() / 2, lum.end());
+    if (lum[lum.size() / 2] > 0) exposure = 0.18 / lum[lum.size() / 2];
+  }
+  const int w = a.width(), h = a.height(), panels = difference ? 3 : 2, gap = 4;
+  ImageRGB8 out(panels * w + (panels - 1) * gap, h);
+  const auto put = [&](int px, int x, int y, double v, int c) {
+    const double g = std::pow(std::clamp(v * exposure, 0.0, 1.0), 1.0 / 2.2);
+    out.at(px * (w + gap) + x, y, c) = static_cast<std::uint8_t>(std::lround(255.0 * g));
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        put(0, x, y, a.at(x, y, c), c);
+        put(1, x, y, b.at(x, y, c), c);
+        if (difference) put(2, x, y, 4.0 * std::abs(a.at(x, y, c) - b.at(x, y, c)), c);
+      }
+  write_png(path, out);
+}
+
+// A camera looking at the light point horizontally from the colour camera's side, framing the
+// sphere in about 85 % of the image.
+render::Camera sphere_camera(const Eigen::Vector3d& target, const Eigen::Vector3d& from, int size) {
+  Eigen::Vector3d dir = from - target;
+  dir.z() = 0;
+  if (dir.norm() < 1e-6) dir = Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d eye = target + kSphereDistance * dir.normalized();
+  PinholeIntrinsics k;
+  k.width = k.height = size;
+  const double half_angle = std::asin(kSphereRadius / kSphereDistance);
+  k.fx = k.fy = 0.85 * 0.5 * size / std::tan(half_angle);
+  k.cx = k.cy = 0.5 * (size - 1);
+  return {k, render::camera_look_at(eye, target)};
+}
+
+}  // namespace
+
+double relative_rgb_error(const ImageRGBAF& a, const ImageRGBAF& b, const std::vector<bool>& mask) {
+  if (a.width() != b.width() || a.height() != b.height() || mask.size() != b.pixel_count())
+    throw std::invalid_argument("relative_rgb_error: sizes differ");
+  double num = 0, den = 0;
+  for (int y = 0; y < b.height(); ++y)
+    for (int x = 0; x < b.width(); ++x) {
+      if (!mask[static_cast<std::size_t>(y * b.width() + x)]) continue;
+      for (int c = 0; c < 3; ++c) {
+        const double e = a.at(x, y, c) - b.at(x, y, c);
+        num += e * e;
+        den += static_cast<double>(b.at(x, y, c)) * b.at(x, y, c);
+      }
+    }
+  return den > 0 ? std::sqrt(num / den) : 0.0;
+}
+
+RenderEvalReport evaluate_render_sim(const RenderEvalOptions& o) {
+  ServiceConfig config = o.config;
+  if (config.source != "sim" && !config.source.starts_with("sim:"))
+    throw std::invalid_argument("eval render: only the sim has ground-truth light");
+  if (config.objects.empty()) throw std::invalid_argument("eval render: no objects configured");
+  if (!(o.orbit_s > 0) || !(o.after_switch_s > 0))
+    throw std::invalid_argument("eval render: the orbit and after-switch times must be > 0");
+  if (o.truth_supersample < 1 || o.sphere_image_size < 16)
+    throw std::invalid_argument("eval render: bad truth supersampling or sphere image size");
+
+  const double start = kSwitchWorldS - o.orbit_s;
+  if (start < 0) throw std::invalid_argument("eval render: orbit longer than 6 s");
+  const std::string spec = fmt::format("realtime=0,trajectory=orbit,start={}{}", start,
+                                       o.sim_spec.empty() ? "" : "," + o.sim_spec);
+  const sim::SimOptions sim_options = sim::parse_sim_options(spec);
+  Rig rig = sim::make_sim_rig(sim_options);
+  LightCapture capture(config, rig.calibration);
+  if (!capture.initialise())
+    throw std::runtime_error("eval render: light capture: " +
+                             capture.status().value("error", std::string("failed")));
+
+  // The objects as the service makes them (PRT baked or read from the cache).
+  const std::vector<render::VirtualObject> objects =
+      make_scene_objects(config.objects, config.ground, default_prt_cache_dir());
+  std::vector<render::VirtualObject> diffuse;  // what the lamp response watches
+  for (const auto& obj : objects)
+    if (obj.material.shading == render::Material::Shading::PrtDiffuse ||
+        obj.material.shading == render::Material::Shading::ShDiffuse)
+      diffuse.push_back(obj);
+  if (diffuse.empty())
+    for (const auto& obj : objects)
+      if (obj.material.shading != render::Material::Shading::GroundShadow) diffuse.push_back(obj);
+  render::Renderer renderer(renderer_config_for(objects));
+
+  const auto world = std::make_shared<const sim::SimWorld>(sim_options.seed);
+  const Eigen::Vector3d light_point = sim::light_probe_position();
+  const int n = config.light_face_size;
+  const std::array<std::shared_ptr<const render::Environment>, 2> truth{
+      truth_environment(world, light_point, 0, n, o.truth_supersample),
+      truth_environment(world, light_point, 1, n, o.truth_supersample)};
+  const double scale = sim::fisheye_radiance_per_converted();
+
+  BracketSequencer sequencer;
+  RgbdFrame rgbd;
+  FisheyeFrame frame;
+  Pose T_world_rig = Pose::identity();
+  const auto timeout = std::chrono::milliseconds(5000);
+  const int frames =
+      static_cast<int>(std::lround((o.orbit_s + o.after_switch_s) * sim_options.fisheye_fps));
+  RenderEvalReport report;
+  report.switch_t_s = kSwitchWorldS;
+  std::shared_ptr<const LightSnapshot> compared;
+  render::Camera compare_camera;
+  std::uint64_t seen_version = 0;
+  bool rgbd_ended = false;
+  for (int i = 0; i < frames; ++i) {
+    const ExposureStamp stamp = sequencer.next();
+    rig.fisheye->set_next_exposure(stamp);
+    if (rig.fisheye->read(frame, timeout) != ReadResult::Frame)
+      throw std::runtime_error("eval render: the sim's fisheye stopped");
+    // The colour frames up to this fisheye frame: poses for the light stage, colour for its
+    // exposure estimate, and the camera the objects are seen from.
+    while (!rgbd_ended && rgbd.timestamp_ns <= frame.timestamp_ns) {
+      if (rig.rgbd->read(rgbd, timeout) != ReadResult::Frame || !rgbd.truth ||
+          !rgbd.truth->rig_pose) {
+        rgbd_ended = true;
+        break;
+      }
+      T_world_rig = *rgbd.truth->rig_pose;
+      capture.add_rig_pose(rgbd.timestamp_ns, T_world_rig);
+      capture.offer_rgbd(rgbd);
+    }
+    sequencer.observe(frame.exposure,
+                      count_exposure(frame.raw, frame.bit_depth, frame.black_level));
+    if (!capture.process(frame))
+      throw std::runtime_error("eval render: light capture: " +
+                               capture.status().value("error", std::string("failed")));
+    ++report.fisheye_frames;
+
+    const auto snap = capture.latest_light();
+    if (!snap || snap->version == seen_version) continue;
+    seen_version = snap->version;
+    ++report.snapshots;
+    const double t = start + static_cast<double>(i) / sim_options.fisheye_fps;
+    if (t < kSwitchWorldS) {
+      compared = snap;
+      compare_camera = {rig.calibration.rgb.intrinsics(), T_world_rig * rig.calibration.T_rig_rgb};
+      report.compare_t_s = t;
+    }
+    if (!compared) continue;
+    // The lamp response: the diffuse objects' mean radiance from the captured light against
+    // the truth of the lamp state at the snapshot's time, seen from the compared camera.
+    const int lamps = sim::SimWorld::lamp_state(t);
+    LampSample s;
+    s.t_s = t;
+    s.truth = mean_luminance(render_float(renderer, compare_camera, lit_by(diffuse, truth[lamps])));
+    s.captured = mean_luminance(
+        render_float(renderer, compare_camera, lit_by(diffuse, scaled_environment(*snap, scale))));
+    s.rel_error = s.truth > 0 ? std::abs(s.captured - s.truth) / s.truth : 0.0;
+    report.lamp.push_back(s);
+  }
+  if (!compared) throw std::runtime_error("eval render: no light snapshot before the switch");
+
+  // The lamp response.
+  std::optional<std::size_t> settled;
+  for (std::size_t k = 0; k < report.lamp.size(); ++k) {
+    const LampSample& s = report.lamp[k];
+    if (s.t_s < kSwitchWorldS) {
+      report.lamp_rel_error_before = s.rel_error;
+      settled.reset();
+      continue;
+    }
+    if (s.rel_error > kLampTolerance)
+      settled.reset();
+    else if (!settled)
+      settled = k;
+  }
+  if (settled) report.lamp_response_s = report.lamp[*settled].t_s - kSwitchWorldS;
+  if (!report.lamp.empty()) {
+    report.lamp_rel_error_final = report.lamp.back().rel_error;
+    const auto before = std::find_if(report.lamp.rbegin(), report.lamp.rend(),
+                                     [](const LampSample& s) { return s.t_s < kSwitchWorldS; });
+    if (before != report.lamp.rend() && before->truth > 0)
+      report.truth_drop = report.lamp.back().truth / before->truth;
+  }
+
+  // Objects and their ground shadow, from the snapshot before the switch and from the truth.
+  const int lamps_before = sim::SimWorld::lamp_state(report.compare_t_s);
+  const auto captured_env = scaled_environment(*compared, scale);
+  const ImageRGBAF cap = render_float(renderer, compare_camera, lit_by(objects, captured_env));
+  const ImageRGBAF tru =
+      render_float(renderer, compare_camera, lit_by(objects, truth[lamps_before]));
+  std::vector<bool> object_mask(tru.pixel_count()), shadow_mask(tru.pixel_count());
+  double largest_change = 0;
+  for (int y = 0; y < tru.height(); ++y)
+    for (int x = 0; x < tru.width(); ++x)
+      if (!(tru.at(x, y, 3) > 0.5f))
+        largest_change = std::max(largest_change, std::abs(luminance(tru, x, y)));
+  for (int y = 0; y < tru.height(); ++y)
+    for (int x = 0; x < tru.width(); ++x) {
+      const auto i = static_cast<std::size_t>(y * tru.width() + x);
+      object_mask[i] = tru.at(x, y, 3) > 0.5f && cap.at(x, y, 3) > 0.5f;
+      shadow_mask[i] = !(tru.at(x, y, 3) > 0.5f) && largest_change > 0 &&
+                       std::abs(luminance(tru, x, y)) >= kShadowShare * largest_change;
+      if (object_mask[i]) ++report.object_pixels;
+      if (shadow_mask[i]) {
+        ++report.shadow_pixels;
+        report.shadow_mean_captured += luminance(cap, x, y);
+        report.shadow_mean_truth += luminance(tru, x, y);
+      }
+    }
+  if (report.shadow_pixels > 0) {
+    report.shadow_mean_captured /= report.shadow_pixels;
+    report.shadow_mean_truth /= report.shadow_pixels;
+  }
+  report.object_rel_error = relative_rgb_error(cap, tru, object_mask);
+  report.shadow_rel_error = relative_rgb_error(cap, tru, shadow_mask);
+
+  // The chrome sphere (thesis Fig. 4.13 / 6.9): a mirror ball at the light point.
+  render::VirtualObject ball;
+  ball.mesh = std::make_shared<const render::Mesh>(render::make_sphere(kSphereRadius, 96, 48));
+  ball.T_world_object.translation = light_point;
+  ball.material.shading = render::Material::Shading::Mirror;
+  const render::Camera ball_camera =
+      sphere_camera(light_point, compare_camera.T_world_camera.translation, o.sphere_image_size);
+  const ImageRGBAF ball_cap = render_float(renderer, ball_camera, lit_by({ball}, captured_env));
+  const ImageRGBAF ball_tru =
+      render_float(renderer, ball_camera, lit_by({ball}, truth[lamps_before]));
+  std::vector<bool> ball_mask(ball_tru.pixel_count());
+  for (int y = 0; y < ball_tru.height(); ++y)
+    for (int x = 0; x < ball_tru.width(); ++x) {
+      const bool in = ball_tru.at(x, y, 3) > 0.5f;
+      ball_mask[static_cast<std::size_t>(y * ball_tru.width() + x)] = in;
+      report.sphere_pixels += in ? 1 : 0;
+    }
+  report.sphere_rel_rmse = relative_rgb_error(ball_cap, ball_tru, ball_mask);
+
+  if (!o.dump_dir.empty()) {
+    write_panels(o.dump_dir + "/chrome_sphere.png", ball_cap, ball_tru, ball_mask, true);
+    write_panels(o.dump_dir + "/objects.png", cap, tru, object_mask, false);
+    // The two environments as the renderer took them: faces +x, -x, +y, -y, +z, -z top down.
+    const ImageRGBAF& env_cap = captured_env->faces;
+    write_panels(o.dump_dir + "/environments.png", env_cap, truth[lamps_before]->faces,
+                 std::vector<bool>(env_cap.pixel_count(), true), true);
+  }
+  return report;
+}
+
+}  // namespace probeless::eval

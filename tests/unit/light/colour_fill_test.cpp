@@ -1,0 +1,102 @@
+// The colour camera's view below the fisheye's horizon (app/light/colour_fill.hpp).
+#include "app/light/colour_fill.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace probeless::light {
+namespace {
+
+// A camera 1 m above a grey floor (z = 0) looking straight down; every pixel at 1000 mm.
+struct FloorView {
+  PinholeIntrinsics k;
+  RgbdFrame frame;
+  Pose T_world_camera;
+  explicit FloorView(std::uint8_t grey) {
+    frame.color = ImageRGB8(k.width, k.height);
+    frame.depth = DepthImage(k.width, k.height);
+    for (int y = 0; y < k.height; ++y)
+      for (int x = 0; x < k.width; ++x) {
+        for (int c = 0; c < 3; ++c) frame.color.at(x, y, c) = grey;
+        frame.depth.at(x, y, 0) = 1000;
+      }
+    Eigen::Matrix3d r;  // camera x = world x, camera y = world -y, camera z = world -z
+    r << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+    T_world_camera.rotation = Eigen::Quaterniond(r);
+    T_world_camera.translation = Eigen::Vector3d(0, 0, 1);
+  }
+};
+
+float* texel_towards(envmap::ImageRGBAF& t, const Eigen::Vector3f& d) {
+  const int n = envmap::face_size_of(t);
+  const envmap::CubeCoord c = envmap::cube_coord_of(d);
+  const int x = std::min(static_cast<int>(c.u * n), n - 1);
+  const int y = std::min(static_cast<int>(c.v * n), n - 1);
+  return &t.at(x, c.face * n + y, 0);
+}
+
+TEST(ColourFill, UnobservedTexelsBelowTakeTheFloorsRadiance) {
+  FloorView view(128);
+  envmap::ImageRGBAF texels = envmap::make_texels(32);  // all 0: nothing observed
+  // One texel just above the horizon was observed by the fisheye: it keeps its value (the
+  // floor seen from 1 m up reaches no direction above it anyway). One below was too, but
+  // below the horizon the colour camera's value wins.
+  float* observed = texel_towards(texels, {1, 0.2f, 0.05f});
+  float* below = texel_towards(texels, {0.1f, 0.1f, -1});
+  below[3] = 1;
+  observed[0] = observed[1] = observed[2] = 7;
+  observed[3] = 1;
+  const Eigen::Vector3d e(2, 3, 4);
+  const ColourFillStats s = fill_from_colour(texels, Eigen::Vector3d(0, 0, 0.1), view.frame, view.k,
+                                             view.T_world_camera, e);
+  EXPECT_EQ(s.samples, 320 * 240);
+  EXPECT_GT(s.filled_texels, 32 * 32 / 2);
+  const double linear = std::pow(128 / 255.0, 2.2);
+  const float* down = texel_towards(texels, {0, 0, -1});
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(down[c], linear * e[c], 1e-4) << c;
+  EXPECT_FLOAT_EQ(down[3], 0.5f) << "a filled texel is marked as such";
+  EXPECT_NEAR(below[0], linear * e[0], 1e-4);
+  EXPECT_FLOAT_EQ(below[3], 0.5f);
+  EXPECT_EQ(observed[0], 7) << "the fisheye's texel stays";
+  EXPECT_EQ(observed[3], 1);
+  // Nothing the camera saw lies above the point: the upper texels stay as they were.
+  const float* up = texel_towards(texels, {0.1f, 0.2f, 1});
+  EXPECT_EQ(up[0], 0);
+  EXPECT_EQ(up[3], 0);
+}
+
+// Clipped colour says nothing of the radiance, a pixel without depth has no point.
+TEST(ColourFill, SaturatedAndDepthlessPixelsAreSkipped) {
+  FloorView view(255);
+  envmap::ImageRGBAF texels = envmap::make_texels(16);
+  EXPECT_EQ(fill_from_colour(texels, Eigen::Vector3d(0, 0, 0.1), view.frame, view.k,
+                             view.T_world_camera, Eigen::Vector3d::Ones())
+                .samples,
+            0);
+  FloorView dark(10);
+  for (int y = 0; y < dark.k.height; ++y)
+    for (int x = 0; x < dark.k.width; ++x) dark.frame.depth.at(x, y, 0) = 0;
+  EXPECT_EQ(fill_from_colour(texels, Eigen::Vector3d(0, 0, 0.1), dark.frame, dark.k,
+                             dark.T_world_camera, Eigen::Vector3d::Ones())
+                .filled_texels,
+            0);
+}
+
+TEST(ColourFill, RejectsAFrameOfAnotherSize) {
+  FloorView view(100);
+  PinholeIntrinsics other = view.k;
+  other.width = 320;
+  envmap::ImageRGBAF texels = envmap::make_texels(8);
+  EXPECT_THROW(fill_from_colour(texels, Eigen::Vector3d::Zero(), view.frame, other,
+                                view.T_world_camera, Eigen::Vector3d::Ones()),
+               std::invalid_argument);
+  ColourFillParams bad;
+  bad.stride = 0;
+  EXPECT_THROW(fill_from_colour(texels, Eigen::Vector3d::Zero(), view.frame, view.k,
+                                view.T_world_camera, Eigen::Vector3d::Ones(), bad),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace probeless::light
