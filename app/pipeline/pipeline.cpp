@@ -185,7 +185,7 @@ void Pipeline::capture_fisheye(std::stop_token stop) {
     if (r == ReadResult::Error) std::this_thread::sleep_for(100ms);
     if (r != ReadResult::Frame) continue;
     stats_.record("capture_fisheye", ms_since(t0));
-    if (strobe_ && !strobe_failed_) stamp_with_strobe(frame);
+    if (strobe_ && !strobe_failed_) stamp_fisheye_frame(frame);
     if (bracket_) {
       // Saturated and black counts steer L and H (docs/bracketing.md). On the CPU here: a
       // 512 px frame takes well under a millisecond; the OpenCL reduction replaces it when
@@ -210,12 +210,11 @@ void Pipeline::capture_fisheye(std::stop_token stop) {
 
 // One frame in flight (trigger, read, trigger, ...): the newest queued edge is the strobe of
 // the frame just read, the kernel's CLOCK_MONOTONIC time of its exposure start.
-void Pipeline::stamp_with_strobe(FisheyeFrame& frame) {
+void Pipeline::stamp_fisheye_frame(FisheyeFrame& frame) {
   try {
-    if (const auto edge = strobe_->latest()) {
-      frame.timestamp_ns = edge->time_ns;
-      ++strobe_stamped_;
-    }
+    // No wait: a sensor's strobe edge (exposure start) is queued long before its frame is
+    // read out.
+    if (stamp_with_strobe(*strobe_, frame, std::chrono::nanoseconds(0))) ++strobe_stamped_;
   } catch (const std::runtime_error& e) {
     spdlog::error("{}; fisheye frames keep their driver timestamps", e.what());
     strobe_failed_ = true;

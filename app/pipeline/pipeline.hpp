@@ -81,7 +81,7 @@ class Pipeline {
  private:
   void capture_rgbd(std::stop_token stop);
   void capture_fisheye(std::stop_token stop);
-  void stamp_with_strobe(FisheyeFrame& frame);
+  void stamp_fisheye_frame(FisheyeFrame& frame);
   void process(std::stop_token stop);
   void process_loop(std::stop_token stop, class FrameProcessor& processor);
   void output_loop(std::stop_token stop);

@@ -126,6 +126,14 @@ std::optional<StrobeEvent> GpioStrobe::latest() {
   return newest;
 }
 
+std::optional<StrobeEvent> stamp_with_strobe(GpioStrobe& strobe, FisheyeFrame& frame,
+                                             std::chrono::nanoseconds timeout) {
+  std::optional<StrobeEvent> edge = strobe.latest();
+  if (!edge) edge = strobe.wait(timeout);
+  if (edge) frame.timestamp_ns = edge->time_ns;
+  return edge;
+}
+
 std::string GpioStrobe::name() const {
   return config_.chip + " line " + std::to_string(config_.line);
 }

@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/frame.hpp"
 #include "core/time.hpp"
 
 namespace probeless {
@@ -57,5 +58,11 @@ class GpioStrobe {
   gpiod::chip chip_;
   gpiod::line line_;
 };
+
+// Stamps `frame` with its exposure start: the newest queued edge, or when none is queued the
+// next one within `timeout`. Returns the edge, or nullopt (the frame keeps its timestamp).
+// Assumes one frame in flight, as the pipeline's trigger-read loop has.
+std::optional<StrobeEvent> stamp_with_strobe(GpioStrobe& strobe, FisheyeFrame& frame,
+                                             std::chrono::nanoseconds timeout);
 
 }  // namespace probeless
