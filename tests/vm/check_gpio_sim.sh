@@ -41,6 +41,10 @@ cache=$1
 binary=$(realpath "$2")
 shift 2
 [[ -x $binary ]] || { echo "FAIL: $binary is not built"; exit 1; }
+# What run_in_vm.sh would skip on anyway, before half a minute of module build.
+[[ $(id -u) == 0 ]] || { echo "SKIP: needs root (the VM chroots into the host's files)"; exit 77; }
+command -v qemu-system-x86_64 >/dev/null ||
+  { echo "SKIP: qemu-system-x86_64 is not installed (scripts/setup.sh)"; exit 77; }
 # irq_sim.c travels inside gpio-sim.ko: Debian's kernel has no CONFIG_IRQ_SIM either.
 set +e
 built=$("$here/build_module.sh" -p "$here/patches/irq_sim-export.patch" "$cache" gpio-sim \

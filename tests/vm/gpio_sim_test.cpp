@@ -6,16 +6,18 @@
 //
 // The loopback: gpio-sim shows an output line's level in sysfs (sim_gpioN/value) and lets
 // userspace pull an input line (sim_gpioN/pull), which raises the line's edge interrupt. A
-// "camera emulator" thread polls the trigger line's value and answers each rising level by
-// pulling the strobe line up (and down when the trigger falls), as a sensor's strobe output
-// would. So a strobe edge exists only if a pulse really appeared on the trigger line.
+// triggered-sensor thread (TriggeredSensor) polls the trigger line's value; at each rise it
+// latches the exposure it was last given, pulls the strobe line up and delivers one frame;
+// when the trigger falls it pulls the strobe down. So a frame and a strobe edge exist only if
+// a pulse really appeared on the trigger line, and a frame carries the exposure that was set
+// before its pulse.
 //
 // Polling alone cannot be relied on here: QEMU's vCPU threads share two busy host cores, and
 // a vCPU the host does not run for longer than a pulse while the other one runs misses that
-// pulse. So the emulator and the firing thread share one vCPU, the emulator at SCHED_FIFO
+// pulse. So the sensor thread and the firing thread share one vCPU, the sensor at SCHED_FIFO
 // sleeping kPoll between reads: the line can only change while the firing thread runs,
-// which it cannot while the emulator is runnable, and the emulator's timer expires before
-// the firing thread's (kPoll < the pulse width, and < the low time between frames). A pulse
+// which it cannot while the sensor is runnable, and the sensor's timer expires before the
+// firing thread's (kPoll < the pulse width, and < the low time between frames). A pulse
 // that is never driven, or that ends without a sleep, is still never seen. (A first version,
 // free-running and with no low time between frames, missed a pulse within 15 frames: the
 // line fell and rose again between two of its reads.)
@@ -28,19 +30,23 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <filesystem>
 #include <latch>
 #include <mutex>
+#include <random>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "drivers/bracket/bracket_sequencer.hpp"
-#include "drivers/sim/sim_rig.hpp"
+#include "drivers/bracket/bracket_simulation.hpp"
 #include "drivers/trigger/exposure_trigger.hpp"
 #include "drivers/trigger/gpio_chips.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
@@ -106,32 +112,70 @@ class SimAttribute {
   int fd_ = -1;
 };
 
-// The sensor on the far side of the wires: trigger in, strobe out.
-class CameraEmulator {
+// The sensor on the far side of the wires, in external-trigger mode: trigger in, strobe and
+// frames out. At each rise of the trigger line it latches the exposure it was last given
+// (so a trigger fired before set_next_exposure() would take the previous one), pulls the
+// strobe up, and delivers one frame taken at the latched exposure (bracket_simulation's
+// camera model over a small HDR scene); when the trigger falls it pulls the strobe down.
+class TriggeredSensor final : public FisheyeSource {
  public:
-  CameraEmulator(const std::filesystem::path& chip_dir, unsigned trigger, unsigned strobe)
+  TriggeredSensor(const std::filesystem::path& chip_dir, unsigned trigger, unsigned strobe)
       : trigger_(chip_dir / ("sim_gpio" + std::to_string(trigger)) / "value", O_RDONLY),
-        strobe_(chip_dir / ("sim_gpio" + std::to_string(strobe)) / "pull", O_WRONLY) {
+        strobe_(chip_dir / ("sim_gpio" + std::to_string(strobe)) / "pull", O_WRONLY),
+        model_(SimulatedCameraModel::for_bits(kBits)),
+        scene_(32, 32) {
+    // 12 stops of radiance, the middle one at 18 % of full scale at the sequencer's start E.
+    const double middle =
+        0.18 * model_.full_scale() / (BracketConfig{}.initial_exposure * model_.scale);
+    const int n = scene_.width() * scene_.height();
+    for (int k = 0; k < n; ++k)
+      for (int c = 0; c < 3; ++c)
+        scene_.at(k % scene_.width(), k / scene_.width(), c) =
+            static_cast<float>(middle * std::exp2(12.0 * k / (n - 1) - 6.0));
     strobe_.write("pull-down");
     thread_ = std::jthread([this](std::stop_token stop) { run(stop); });
     // Watching before the first pulse: a thread's first run under TCG can come later than a
     // whole pulse.
     ready_.wait();
   }
-  ~CameraEmulator() {
+  ~TriggeredSensor() override {
     thread_.request_stop();
     thread_.join();
   }
+
+  void set_next_exposure(const ExposureStamp& exposure) override {
+    std::lock_guard lock(mutex_);
+    next_ = exposure;
+  }
+  ReadResult read(FisheyeFrame& frame, std::chrono::milliseconds timeout) override {
+    std::unique_lock lock(mutex_);
+    if (!taken_.wait_for(lock, timeout, [&] { return !latched_.empty(); }))
+      return ReadResult::NoFrameYet;
+    frame.exposure = latched_.front();
+    latched_.pop_front();
+    lock.unlock();
+    frame.sequence = sequence_++;
+    frame.timestamp_ns = monotonic_now_ns();  // "end of readout"; the strobe stamp replaces it
+    frame.bit_depth = kBits;
+    frame.black_level = model_.black_level;
+    frame.raw = simulate_capture(scene_, frame.exposure.exposure, model_, rng_);
+    return ReadResult::Frame;
+  }
+  SourceState state() const override { return SourceState::Streaming; }
+  std::string name() const override { return "triggered sensor (gpio-sim loopback)"; }
+
   int pulses_seen() const { return pulses_.load(); }
   long reads() const { return reads_.load(); }
 
  private:
+  static constexpr int kBits = 12;
+
   void run(std::stop_token stop) {
     pin_to_cpu(kEmulatorCpu);
     sched_param realtime{};
     realtime.sched_priority = 10;
     if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &realtime) != 0) {
-      std::fprintf(stderr, "camera emulator: cannot run at SCHED_FIFO\n");
+      std::fprintf(stderr, "triggered sensor: cannot run at SCHED_FIFO\n");
       std::abort();  // without it the loopback would be a race with the host's scheduler
     }
     int last = trigger_.read_value();
@@ -140,7 +184,12 @@ class CameraEmulator {
       const int now = trigger_.read_value();
       ++reads_;
       if (now != last) {
-        if (now == 1) ++pulses_;
+        if (now == 1) {
+          ++pulses_;
+          std::lock_guard lock(mutex_);
+          latched_.push_back(next_);
+          taken_.notify_one();
+        }
         strobe_.write(now == 1 ? "pull-up" : "pull-down");
         last = now;
       }
@@ -150,6 +199,14 @@ class CameraEmulator {
 
   SimAttribute trigger_;
   SimAttribute strobe_;
+  SimulatedCameraModel model_;
+  ImageRGBF scene_;
+  std::mt19937_64 rng_{7};
+  std::uint64_t sequence_ = 0;
+  std::mutex mutex_;
+  std::condition_variable taken_;
+  ExposureStamp next_;
+  std::deque<ExposureStamp> latched_;  // taken, not yet read
   std::atomic<int> pulses_{0};
   std::atomic<long> reads_{0};
   std::latch ready_{1};
@@ -218,32 +275,29 @@ class GpioSim : public ::testing::Test {
 // The bar: the trigger pulses match the bracket sequence 1:1 over 200 frames.
 TEST_F(GpioSim, TriggerPulsesMatchTheBracketSequenceOneToOneOver200Frames) {
   constexpr int kFrames = 200;
-  Rig rig = sim::make_sim_rig(
-      sim::parse_sim_options("realtime=0,truth=0,fisheye_size=64,trajectory=static,threads=1"));
   BracketSequencer sequencer;
   GpioTrigger line(trigger_config());
   TimedTrigger trigger(line);
   GpioStrobe strobe(strobe_config());
   SimAttribute trigger_value(attribute(kTriggerLine, "value"), O_RDONLY);
   ASSERT_EQ(trigger_value.read_value(), 0) << "the trigger must idle inactive";
-  // The firing thread on the emulator's vCPU (see the top of the file); the rig's threads
-  // were started before and keep the other one.
+  // The firing thread on the sensor's vCPU (see the top of the file).
   const cpu_set_t all_cpus = pin_to_cpu(kEmulatorCpu);
-  CameraEmulator camera(chip_dir_, kTriggerLine, kStrobeLine);
+  TriggeredSensor camera(chip_dir_, kTriggerLine, kStrobeLine);
 
   std::vector<FisheyeFrame> frames;
   std::vector<TimestampNs> seen_by;  // when wait() returned each strobe edge
   const auto t0 = std::chrono::steady_clock::now();
   for (int i = 0; i < kFrames; ++i) {
-    start_next_frame(sequencer, *rig.fisheye, &trigger);
+    start_next_frame(sequencer, camera, &trigger);
     FisheyeFrame frame;
-    ASSERT_EQ(rig.fisheye->read(frame, 5000ms), ReadResult::Frame);
-    // As the pipeline stamps frames, but waiting: the sim frame is ready before the
-    // emulator answered the pulse.
+    ASSERT_EQ(camera.read(frame, 2000ms), ReadResult::Frame)
+        << "frame " << i << ": the sensor saw no pulse (" << camera.pulses_seen() << " pulses in "
+        << camera.reads() << " reads of the trigger line)";
+    // As the pipeline stamps frames, but waiting: the emulated frame needs no readout, so
+    // it can be read before the strobe's interrupt has been handled.
     const auto edge = stamp_with_strobe(strobe, frame, 2s);
-    ASSERT_TRUE(edge) << "frame " << i << ": no strobe edge within 2 s (the emulator saw "
-                      << camera.pulses_seen() << " pulses in " << camera.reads()
-                      << " reads of the trigger line)";
+    ASSERT_TRUE(edge) << "frame " << i << ": no strobe edge within 2 s";
     seen_by.push_back(monotonic_now_ns());
     EXPECT_TRUE(edge->rising) << "frame " << i;
     EXPECT_EQ(frame.timestamp_ns, edge->time_ns) << "frame " << i;
@@ -261,11 +315,15 @@ TEST_F(GpioSim, TriggerPulsesMatchTheBracketSequenceOneToOneOver200Frames) {
   const auto& fired = trigger.fired();
   ASSERT_EQ(fired.size(), static_cast<std::size_t>(kFrames));
   EXPECT_EQ(camera.pulses_seen(), kFrames) << "pulses seen on the line in sysfs";
+  // The frames' counts steered the sequencer: L and H left their starting 3 stops.
+  EXPECT_TRUE(sequencer.low_stop() != -3 || sequencer.high_stop() != 3)
+      << sequencer.low_stop() << " " << sequencer.high_stop();
   const BracketLevel cycle[] = {BracketLevel::Low, BracketLevel::Medium, BracketLevel::High,
                                 BracketLevel::Medium};
   std::vector<TimestampNs> latency;
   for (int i = 0; i < kFrames; ++i) {
     const auto k = static_cast<std::size_t>(i);
+    // The exposure the sensor latched at pulse i is the one set for frame i.
     EXPECT_EQ(fired[k].exposure, frames[k].exposure) << "frame " << i;
     EXPECT_EQ(fired[k].exposure.level, cycle[i % 4]) << "frame " << i;
     EXPECT_EQ(fired[k].exposure.cycle, static_cast<std::uint64_t>(i / 4)) << "frame " << i;
