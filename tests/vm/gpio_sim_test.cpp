@@ -64,9 +64,9 @@ constexpr auto kTestPulse = 1ms;
 constexpr auto kPoll = 100us;
 // The trigger's low time between frames. A sensor needs one to see the next rising edge; in
 // the service it is the frame period less the pulse (~19 ms at 50 fps), here it stands for
-// the readout that the sim camera does not take.
+// the readout that the test's sensor does not take.
 constexpr auto kLowTime = 1ms;
-constexpr int kEmulatorCpu = 0;
+constexpr int kSensorCpu = 0;
 
 // Pins the calling thread to one CPU (and returns the mask it had).
 cpu_set_t pin_to_cpu(int cpu) {
@@ -171,7 +171,7 @@ class TriggeredSensor final : public FisheyeSource {
   static constexpr int kBits = 12;
 
   void run(std::stop_token stop) {
-    pin_to_cpu(kEmulatorCpu);
+    pin_to_cpu(kSensorCpu);
     sched_param realtime{};
     realtime.sched_priority = 10;
     if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &realtime) != 0) {
@@ -282,7 +282,7 @@ TEST_F(GpioSim, TriggerPulsesMatchTheBracketSequenceOneToOneOver200Frames) {
   SimAttribute trigger_value(attribute(kTriggerLine, "value"), O_RDONLY);
   ASSERT_EQ(trigger_value.read_value(), 0) << "the trigger must idle inactive";
   // The firing thread on the sensor's vCPU (see the top of the file).
-  const cpu_set_t all_cpus = pin_to_cpu(kEmulatorCpu);
+  const cpu_set_t all_cpus = pin_to_cpu(kSensorCpu);
   TriggeredSensor camera(chip_dir_, kTriggerLine, kStrobeLine);
 
   std::vector<FisheyeFrame> frames;
