@@ -1,6 +1,6 @@
 // probeless devices: what this machine offers the service, one section per kind of device.
-// Today OpenCL (platforms, devices, and the one the selector picks); cameras and display
-// connectors are further sections of the same list.
+// Today OpenCL (platforms, devices, and the one the selector picks) and GPIO chips; cameras and
+// display connectors are further sections of the same list.
 #include <fmt/format.h>
 
 #include <cstdlib>
@@ -11,6 +11,7 @@
 
 #include "app/cli/commands.hpp"
 #include "app/pipeline/service_config.hpp"
+#include "drivers/trigger/gpio_chips.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_list.hpp"
 
@@ -85,6 +86,29 @@ void print_opencl(std::ostream& out, const DevicesOptions& opts) {
                      cache.empty() ? "none (no HOME or cache dir set)" : cache.string());
 }
 
+// The GPIO chips the exposure trigger and strobe can use (docs/gpio.md), and which lines the
+// config asks for.
+void print_gpio(std::ostream& out, const DevicesOptions& opts) {
+  out << "GPIO\n";
+  const auto chips = list_gpio_chips();
+  if (chips.empty())
+    out << "  no chip: no /dev/gpiochip* (a board's GPIO driver, or gpio-sim in the VM "
+           "tests); the exposure trigger and strobe need one\n";
+  for (const auto& c : chips) {
+    if (!c.error.empty())
+      out << fmt::format("  {}: cannot open: {}\n", c.path, c.error);
+    else
+      out << fmt::format("  {} '{}': {} lines, {} in use\n", c.name, c.label, c.lines, c.used);
+  }
+  ServiceConfig config;
+  if (!opts.config_path.empty()) config = load_service_config(opts.config_path);
+  const auto line = [](const std::string& chip, int n) {
+    return chip.empty() ? std::string("none") : fmt::format("'{}' line {}", chip, n);
+  };
+  out << fmt::format("  trigger: {}, strobe: {}\n", line(config.trigger_chip, config.trigger_line),
+                     line(config.strobe_chip, config.strobe_line));
+}
+
 }  // namespace
 
 void add_devices_command(CLI::App& app) {
@@ -97,7 +121,7 @@ void add_devices_command(CLI::App& app) {
   cmd->callback([opts] {
     // One function per section; cameras and display connectors join this list.
     const std::vector<std::function<void(std::ostream&, const DevicesOptions&)>> sections{
-        print_opencl};
+        print_opencl, print_gpio};
     for (std::size_t i = 0; i < sections.size(); ++i) {
       if (i > 0) std::cout << '\n';
       sections[i](std::cout, *opts);

@@ -8,6 +8,7 @@
 #include "app/outputs/jpeg_encoder.hpp"
 #include "app/pipeline/frame_processor.hpp"
 #include "app/pipeline/light_capture.hpp"
+#include "drivers/trigger/gpio_strobe.hpp"
 #include "drivers/trigger/gpio_trigger.hpp"
 
 namespace probeless {
@@ -55,6 +56,13 @@ void Pipeline::start() {
       trigger.line = static_cast<unsigned>(config_.trigger_line);
       trigger_ = std::make_unique<GpioTrigger>(trigger);  // a missing chip fails start()
     }
+  }
+  if (rig_.fisheye && !config_.strobe_chip.empty()) {
+    GpioStrobeConfig strobe;
+    strobe.chip = config_.strobe_chip;
+    strobe.line = static_cast<unsigned>(config_.strobe_line);
+    strobe.edge = parse_strobe_edge(config_.strobe_edge);
+    strobe_ = std::make_unique<GpioStrobe>(strobe);  // so does a missing strobe chip
   }
   if (rig_.fisheye && config_.light_enabled) {
     try {
@@ -177,6 +185,7 @@ void Pipeline::capture_fisheye(std::stop_token stop) {
     if (r == ReadResult::Error) std::this_thread::sleep_for(100ms);
     if (r != ReadResult::Frame) continue;
     stats_.record("capture_fisheye", ms_since(t0));
+    if (strobe_ && !strobe_failed_) stamp_fisheye_frame(frame);
     if (bracket_) {
       // Saturated and black counts steer L and H (docs/bracketing.md). On the CPU here: a
       // 512 px frame takes well under a millisecond; the OpenCL reduction replaces it when
@@ -196,6 +205,19 @@ void Pipeline::capture_fisheye(std::stop_token stop) {
     fisheye_exposure_ = frame.exposure;
     ++fisheye_in_;
     if (light_) light_->push(std::move(frame));  // the light thread keeps a bracket cycle
+  }
+}
+
+// One frame in flight (trigger, read, trigger, ...): the newest queued edge is the strobe of
+// the frame just read, the kernel's CLOCK_MONOTONIC time of its exposure start.
+void Pipeline::stamp_fisheye_frame(FisheyeFrame& frame) {
+  try {
+    // No wait: a sensor's strobe edge (exposure start) is queued long before its frame is
+    // read out.
+    if (stamp_with_strobe(*strobe_, frame, std::chrono::nanoseconds(0))) ++strobe_stamped_;
+  } catch (const std::runtime_error& e) {
+    spdlog::error("{}; fisheye frames keep their driver timestamps", e.what());
+    strobe_failed_ = true;
   }
 }
 
@@ -352,6 +374,10 @@ nlohmann::json Pipeline::status() const {
                       {"medium_stop", bracket_stops_[1]},
                       {"high_stop", bracket_stops_[2]},
                       {"trigger", trigger_ ? trigger_->name() : std::string("none")}};
+    if (strobe_)
+      j["strobe"] = {{"line", strobe_->name()},
+                     {"stamped", strobe_stamped_.load()},
+                     {"failed", strobe_failed_.load()}};
   }
   j["stages"] = stages;
   nlohmann::json sources;

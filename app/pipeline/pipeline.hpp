@@ -25,6 +25,7 @@
 namespace probeless {
 
 class LightCapture;
+class GpioStrobe;
 
 class HttpServer;
 class FileOutput;
@@ -85,6 +86,7 @@ class Pipeline {
  private:
   void capture_rgbd(std::stop_token stop);
   void capture_fisheye(std::stop_token stop);
+  void stamp_fisheye_frame(FisheyeFrame& frame);
   void process(std::stop_token stop);
   void process_loop(std::stop_token stop, class FrameProcessor& processor);
   void output_loop(std::stop_token stop);
@@ -113,6 +115,11 @@ class Pipeline {
   std::unique_ptr<ExposureTrigger> trigger_;
   std::unique_ptr<LightCapture> light_;  // null: no fisheye, light off, or unsupported
   int bracket_stops_[3] = {0, 0, 0};     // L, M, H relative to the initial exposure
+
+  // [bracket] strobe_chip: its edges stamp the fisheye frames (capture thread only).
+  std::unique_ptr<GpioStrobe> strobe_;
+  std::atomic<std::uint64_t> strobe_stamped_{0};
+  std::atomic<bool> strobe_failed_{false};  // the line failed: frames keep driver times
 
   LatestFrame<CompositeFrame> output_;
   std::optional<CompositeFrame> last_good_;

@@ -6,10 +6,12 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/toml_reader.hpp"
 #include "drivers/sim/sim_rig.hpp"
+#include "drivers/trigger/gpio_strobe.hpp"
 
 namespace probeless {
 namespace {
@@ -110,7 +112,8 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
   }
   if (auto* t = r.optional_table(root, "bracket")) {
     r.only(*t, "[bracket]",
-           {"enabled", "mains_hz", "max_gain_db", "initial_exposure_ms", "gpio_chip", "gpio_line"});
+           {"enabled", "mains_hz", "max_gain_db", "initial_exposure_ms", "gpio_chip", "gpio_line",
+            "strobe_chip", "strobe_line", "strobe_edge"});
     r.get(*t, "enabled", c.bracket_enabled);
     r.get(*t, "mains_hz", c.bracket.mains_hz);
     r.get(*t, "max_gain_db", c.bracket.max_gain_db);
@@ -119,10 +122,19 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
     c.bracket.initial_exposure = initial_ms * 1e-3;
     r.get(*t, "gpio_chip", c.trigger_chip);
     r.get(*t, "gpio_line", c.trigger_line);
+    r.get(*t, "strobe_chip", c.strobe_chip);
+    r.get(*t, "strobe_line", c.strobe_line);
+    r.get(*t, "strobe_edge", c.strobe_edge);
     if (c.bracket.mains_hz < 0) r.fail(t->get("mains_hz"), "mains_hz must be >= 0 (0: no limit)");
     if (c.bracket.max_gain_db < 0) r.fail(t->get("max_gain_db"), "max_gain_db must be >= 0");
     if (!(initial_ms > 0)) r.fail(t->get("initial_exposure_ms"), "must be positive");
     if (c.trigger_line < 0) r.fail(t->get("gpio_line"), "gpio_line must be >= 0");
+    if (c.strobe_line < 0) r.fail(t->get("strobe_line"), "strobe_line must be >= 0");
+    try {
+      parse_strobe_edge(c.strobe_edge);
+    } catch (const std::invalid_argument& e) {
+      r.fail(t->get("strobe_edge"), e.what());
+    }
   }
   if (auto* t = r.optional_table(root, "ground")) {
     r.only(*t, "[ground]", {"enabled", "height_m", "size_m", "albedo"});

@@ -66,6 +66,10 @@ struct ServiceConfig {
   BracketConfig bracket;
   std::string trigger_chip;  // GPIO chip of the exposure trigger; empty: free-running camera
   int trigger_line = 0;
+  // The strobe input (drivers/trigger/gpio_strobe.hpp): its edges stamp the fisheye frames.
+  std::string strobe_chip;  // empty: frames keep the driver's timestamps
+  int strobe_line = 0;
+  std::string strobe_edge = "rising";  // "rising", "falling" or "both"
 
   // [light]: the HDR environment-map keyframes kept from the fisheye (docs/light-capture.md).
   bool light_enabled = true;

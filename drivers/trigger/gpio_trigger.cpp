@@ -25,7 +25,11 @@ GpioTrigger::GpioTrigger(GpioTriggerConfig config) : config_(std::move(config)) 
     if (config_.active_low) request.flags = gpiod::line_request::FLAG_ACTIVE_LOW;
     line_.request(request, 0);  // inactive until the first frame
   } catch (const std::exception& e) {
-    throw std::runtime_error("gpio trigger: cannot drive " + name() + ": " + e.what());
+    // EBUSY: name the holder (a strobe, another service, a shell's gpioset).
+    const std::string holder = line_ && line_.is_used() && !line_.consumer().empty()
+                                   ? " (held by '" + line_.consumer() + "')"
+                                   : "";
+    throw std::runtime_error("gpio trigger: cannot drive " + name() + holder + ": " + e.what());
   }
 }
 

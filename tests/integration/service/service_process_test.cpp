@@ -306,6 +306,17 @@ TEST(Service, BadConfigurationIsAClearErrorAndExitCode) {
   Subprocess no_chip({binary(), "run", "--config", gpio_cfg.string(), "--port", "0"}, {}, true);
   EXPECT_TRUE(no_chip.wait_for_line("probeless-no-such-chip", 60s).has_value()) << no_chip.output();
   EXPECT_EQ(no_chip.wait(60s).value_or(-1), 1);
+  // So does a strobe input on a missing chip (docs/gpio.md).
+  const auto strobe_cfg = dir / "strobe.toml";
+  f = std::fopen(strobe_cfg.c_str(), "w");
+  std::fputs("[bracket]\nstrobe_chip = \"probeless-no-strobe-chip\"\nstrobe_line = 5\n", f);
+  std::fclose(f);
+  Subprocess no_strobe({binary(), "run", "--config", strobe_cfg.string(), "--port", "0"}, {}, true);
+  EXPECT_TRUE(
+      no_strobe.wait_for_line("gpio strobe: cannot open GPIO chip 'probeless-no-strobe-chip'", 60s)
+          .has_value())
+      << no_strobe.output();
+  EXPECT_EQ(no_strobe.wait(60s).value_or(-1), 1);
 }
 
 }  // namespace

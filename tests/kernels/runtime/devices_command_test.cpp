@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <string>
 
 namespace {
@@ -47,6 +48,30 @@ TEST(DevicesCommand, SaysWhenNothingMatches) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("PROBELESS_CL_PLATFORM"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("selected: none"), std::string::npos) << r.output;
+}
+
+// The GPIO section (docs/gpio.md): the chips, or why there is none, and the configured lines.
+TEST(DevicesCommand, ListsGpioChipsAndTheConfiguredLines) {
+  if (!std::getenv("PROBELESS_BINARY")) GTEST_SKIP() << "PROBELESS_BINARY not set (run via ctest)";
+  const std::string cfg = ::testing::TempDir() + "probeless-devices-gpio.toml";
+  std::FILE* f = std::fopen(cfg.c_str(), "w");
+  ASSERT_NE(f, nullptr);
+  std::fputs(
+      "[bracket]\ngpio_chip = \"gpiochip0\"\ngpio_line = 17\n"
+      "strobe_chip = \"pinctrl-rp1\"\nstrobe_line = 27\n",
+      f);
+  std::fclose(f);
+  const auto r = run("", "devices --config " + cfg);
+  std::remove(cfg.c_str());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("\nGPIO\n"), std::string::npos) << r.output;
+  const bool has_chips = std::filesystem::exists("/dev/gpiochip0");
+  EXPECT_NE(r.output.find(has_chips ? "  gpiochip0" : "  no chip: no /dev/gpiochip*"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("trigger: 'gpiochip0' line 17, strobe: 'pinctrl-rp1' line 27"),
+            std::string::npos)
+      << r.output;
 }
 
 TEST(NoOpenClDriver, DevicesExplainsAndContextFailsClearly) {
