@@ -28,6 +28,7 @@ class LightCapture;
 
 class HttpServer;
 class FileOutput;
+class KmsDisplay;
 
 // What the processing thread publishes per frame.
 struct CompositeFrame {
@@ -117,6 +118,7 @@ class Pipeline {
 
   std::unique_ptr<HttpServer> http_;
   std::unique_ptr<FileOutput> files_;
+  std::unique_ptr<KmsDisplay> display_;  // [display] enabled
 
   mutable std::mutex state_mutex_;
   std::condition_variable state_changed_;
