@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 
 namespace probeless::display {
@@ -75,15 +77,22 @@ std::size_t choose_mode(std::span<const ModeInfo> modes, const std::optional<Mod
     return 0;
   }
   std::optional<std::size_t> best;
+  const auto better = [&](std::size_t i) {
+    if (!best) return true;
+    const ModeInfo &m = modes[i], &b = modes[*best];
+    // With a rate asked: the closest (59.94 and 60 are both listed on most HDMI sinks).
+    if (request->refresh_hz)
+      return std::abs(m.refresh_hz - *request->refresh_hz) <
+             std::abs(b.refresh_hz - *request->refresh_hz);
+    // Without: the preferred mode of that size, else its fastest.
+    if (m.preferred != b.preferred) return m.preferred;
+    return m.refresh_hz > b.refresh_hz;
+  };
   for (std::size_t i = 0; i < modes.size(); ++i) {
     const ModeInfo& m = modes[i];
     if (m.width != request->width || m.height != request->height) continue;
-    if (request->refresh_hz) {
-      if (std::abs(m.refresh_hz - *request->refresh_hz) <= 0.5) return i;
-      continue;
-    }
-    if (m.preferred) return i;
-    if (!best || m.refresh_hz > modes[*best].refresh_hz) best = i;
+    if (request->refresh_hz && std::abs(m.refresh_hz - *request->refresh_hz) > 0.5) continue;
+    if (better(i)) best = i;
   }
   if (best) return *best;
   throw DisplayError(fmt::format("mode {} is not offered by {} (it offers {})", to_string(*request),

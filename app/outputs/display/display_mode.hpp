@@ -37,8 +37,8 @@ struct ModeInfo {
 };
 std::string to_string(const ModeInfo& mode);  // "1024x768@60.00"
 
-// The mode to set: the request's size (and rate within 0.5 Hz when it gives one; without a
-// rate the preferred mode of that size, else its fastest), or with no request the preferred
+// The mode to set: the request's size (and the closest rate within 0.5 Hz when it gives one;
+// without a rate the preferred mode of that size, else its fastest), or with no request the preferred
 // mode, else the first listed (the kernel lists the best first). Throws DisplayError listing
 // what the connector offers when nothing matches.
 std::size_t choose_mode(std::span<const ModeInfo> modes, const std::optional<ModeRequest>& request,

@@ -1,10 +1,10 @@
 // The device-free rules of the tethered display (app/outputs/display/display_mode.hpp): the
 // config's mode string, which mode and connector are chosen, and the letterbox.
+#include "app/outputs/display/display_mode.hpp"
+
 #include <gtest/gtest.h>
 
 #include <vector>
-
-#include "app/outputs/display/display_mode.hpp"
 
 namespace probeless::display {
 namespace {
@@ -33,9 +33,9 @@ TEST(ModeRequest, SizeAndOptionalRate) {
 }
 
 TEST(ModeRequest, MalformedStringsSayWhatIsExpected) {
-  for (const char* bad : {"", "1920", "1920x", "x1080", "1920x1080@", "1920x1080@abc",
-                          "1920X1080", "-1x5", "0x480", "1920x1080@0", "1920x1080@60Hz",
-                          "1920 x 1080", "99999x1080", "1920x1080@60@30"}) {
+  for (const char* bad :
+       {"", "1920", "1920x", "x1080", "1920x1080@", "1920x1080@abc", "1920X1080", "-1x5", "0x480",
+        "1920x1080@0", "1920x1080@60Hz", "1920 x 1080", "99999x1080", "1920x1080@60@30"}) {
     const std::string e = error_of([&] { parse_mode_request(bad); });
     EXPECT_NE(e.find("expected WIDTHxHEIGHT or WIDTHxHEIGHT@HZ"), std::string::npos)
         << "\"" << bad << "\": " << e;
@@ -43,12 +43,9 @@ TEST(ModeRequest, MalformedStringsSayWhatIsExpected) {
 }
 
 // As virtio-gpu lists them: the preferred mode first, then the standard modes.
-const std::vector<ModeInfo> kModes{{1280, 800, 74.99, true},
-                                   {1920, 1080, 60.0, false},
-                                   {1920, 1080, 50.0, false},
-                                   {1280, 720, 59.94, false},
-                                   {1280, 720, 60.0, false},
-                                   {800, 600, 60.32, false}};
+const std::vector<ModeInfo> kModes{{1280, 800, 74.99, true},  {1920, 1080, 60.0, false},
+                                   {1920, 1080, 50.0, false}, {1280, 720, 59.94, false},
+                                   {1280, 720, 60.0, false},  {800, 600, 60.32, false}};
 
 TEST(ChooseMode, PreferredWithoutARequest) {
   EXPECT_EQ(choose_mode(kModes, std::nullopt, "Virtual-1"), 0u);
@@ -61,8 +58,8 @@ TEST(ChooseMode, SizeTakesTheFastestRateAndARateMatchesWithinHalfAHertz) {
   EXPECT_EQ(choose_mode(kModes, parse_mode_request("1920x1080"), "c"), 1u);
   EXPECT_EQ(choose_mode(kModes, parse_mode_request("1920x1080@50"), "c"), 2u);
   EXPECT_EQ(choose_mode(kModes, parse_mode_request("1280x720@59.94"), "c"), 3u);
-  EXPECT_EQ(choose_mode(kModes, parse_mode_request("1280x720@60"), "c"), 3u);  // first in 0.5 Hz
-  EXPECT_EQ(choose_mode(kModes, parse_mode_request("1280x720@60.3"), "c"), 4u);
+  EXPECT_EQ(choose_mode(kModes, parse_mode_request("1280x720@60"), "c"), 4u);  // the closest
+  EXPECT_EQ(choose_mode(kModes, parse_mode_request("1280x720@59.8"), "c"), 3u);
   EXPECT_EQ(choose_mode(kModes, parse_mode_request("800x600@60"), "c"), 5u);
   // A size whose preferred mode is not its fastest: the preferred one.
   const std::vector<ModeInfo> tv{{1920, 1080, 30, false}, {1920, 1080, 24, true}};
@@ -74,8 +71,9 @@ TEST(ChooseMode, AModeNotOfferedListsWhatIs) {
       error_of([] { choose_mode(kModes, parse_mode_request("1920x1080@144"), "HDMI-A-1"); });
   EXPECT_NE(e.find("mode 1920x1080@144 is not offered by HDMI-A-1"), std::string::npos) << e;
   EXPECT_NE(e.find("1280x800@74.99 (preferred), 1920x1080@60.00"), std::string::npos) << e;
-  EXPECT_NE(error_of([] { choose_mode(kModes, parse_mode_request("3840x2160"), "c"); })
-                .find("mode 3840x2160 is not offered"),
+  EXPECT_NE(error_of([] {
+              choose_mode(kModes, parse_mode_request("3840x2160"), "c");
+            }).find("mode 3840x2160 is not offered"),
             std::string::npos);
   EXPECT_NE(error_of([] { choose_mode({}, std::nullopt, "DSI-1"); }).find("DSI-1 offers no modes"),
             std::string::npos);
@@ -108,7 +106,7 @@ TEST(Letterbox, KeepsTheAspectRatioCentredWithBlackBars) {
   EXPECT_EQ(letterbox(640, 480, 1920, 1080), (Viewport{240, 0, 1440, 1080}));  // bars left/right
   EXPECT_EQ(letterbox(1920, 1080, 640, 480), (Viewport{0, 60, 640, 360}));     // top/bottom
   EXPECT_EQ(letterbox(1280, 720, 1920, 1080), (Viewport{0, 0, 1920, 1080}));   // same aspect
-  EXPECT_EQ(letterbox(320, 240, 1280, 800), (Viewport{107, 0, 1067, 800}));    // rounded
+  EXPECT_EQ(letterbox(320, 240, 1280, 800), (Viewport{106, 0, 1067, 800}));    // rounded
   EXPECT_EQ(letterbox(100, 100, 101, 50), (Viewport{25, 0, 50, 50}));
   // Degenerate input never gives a negative or larger-than-screen viewport.
   EXPECT_EQ(letterbox(0, 480, 640, 480), (Viewport{0, 0, 640, 480}));
@@ -124,8 +122,10 @@ TEST(Letterbox, FitsInsideTheScreenForAnySizes) {
         ASSERT_LE(v.x + v.width, sw);
         ASSERT_LE(v.y + v.height, sh);
         // One axis is filled, and the aspect ratio is kept to within a pixel of rounding.
-        ASSERT_TRUE(v.width == sw || v.height == sh) << iw << "x" << ih << " in " << sw << "x" << sh;
-        const double err = std::abs(static_cast<double>(v.width) * ih - static_cast<double>(v.height) * iw);
+        ASSERT_TRUE(v.width == sw || v.height == sh)
+            << iw << "x" << ih << " in " << sw << "x" << sh;
+        const double err =
+            std::abs(static_cast<double>(v.width) * ih - static_cast<double>(v.height) * iw);
         ASSERT_LE(err, std::max(iw, ih)) << iw << "x" << ih << " in " << sw << "x" << sh;
       }
 }
