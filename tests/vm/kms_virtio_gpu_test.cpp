@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <thread>
 
+#include "app/outputs/display/drm_inventory.hpp"
 #include "app/outputs/display/kms_screen.hpp"
 #include "app/outputs/kms_display.hpp"
 
@@ -210,6 +211,28 @@ TEST_F(VirtioGpu, AnUnknownConnectorNamesTheOnesThereAre) {
   EXPECT_EQ(modeset.target().connector, "Virtual-1");
   // No mode asked: the connector's preferred one (QEMU's default 1280x800).
   EXPECT_TRUE(modeset.target().mode.preferred) << to_string(modeset.target().mode);
+}
+
+// What `probeless devices` lists: the card, its one virtual connector, plugged in, with
+// QEMU's 1280x800 preferred among the standard modes.
+TEST_F(VirtioGpu, TheInventoryListsTheCardConnectorAndModes) {
+  const auto cards = list_displays();
+  ASSERT_EQ(cards.size(), 1u);
+  EXPECT_EQ(cards[0].path, "/dev/dri/card0");
+  EXPECT_EQ(cards[0].driver, "virtio_gpu");
+  EXPECT_TRUE(cards[0].error.empty()) << cards[0].error;
+  ASSERT_EQ(cards[0].connectors.size(), 1u);
+  const auto& c = cards[0].connectors[0];
+  EXPECT_EQ(c.info.name, "Virtual-1");
+  EXPECT_TRUE(c.info.connected);
+  ASSERT_GT(c.modes.size(), 5u);
+  int preferred = 0;
+  for (const auto& m : c.modes)
+    if (m.preferred) {
+      ++preferred;
+      EXPECT_EQ(to_string(m).rfind("1280x800@", 0), 0u) << to_string(m);
+    }
+  EXPECT_EQ(preferred, 1);
 }
 
 TEST_F(VirtioGpu, ASecondMasterIsToldTheCardIsBusy) {

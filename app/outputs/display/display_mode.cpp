@@ -99,6 +99,11 @@ std::size_t choose_mode(std::span<const ModeInfo> modes, const std::optional<Mod
                                  connector_name, offered(modes)));
 }
 
+std::filesystem::path card_path(const std::string& card, const std::filesystem::path& dri_dir) {
+  if (card.find('/') != std::string::npos) return card;
+  return dri_dir / card;
+}
+
 std::size_t choose_connector(std::span<const ConnectorInfo> connectors, std::string_view name,
                              std::string_view card) {
   std::string listed;

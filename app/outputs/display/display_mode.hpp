@@ -2,6 +2,7 @@
 // The device-free half of the tethered display (docs/display.md): the config's mode string,
 // the choice of connector and mode among what a card offers, and the letterbox that fits the
 // composite into the mode. No DRM headers here, so the rules are unit-tested on any machine.
+#include <filesystem>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -48,6 +49,9 @@ struct ConnectorInfo {
   std::string name;  // "HDMI-A-1", "Virtual-1": the kernel's type name and per-type index
   bool connected = false;
 };
+
+// [display] card: "card0" -> dri_dir/card0; a path with a '/' is used as it is.
+std::filesystem::path card_path(const std::string& card, const std::filesystem::path& dri_dir);
 
 // The connector named (case-insensitive), which must be connected, or the first connected one.
 std::size_t choose_connector(std::span<const ConnectorInfo> connectors, std::string_view name,

@@ -31,11 +31,6 @@ std::vector<std::filesystem::path> list_cards(const std::filesystem::path& dri_d
   return cards;
 }
 
-std::filesystem::path card_path(const std::string& card, const std::filesystem::path& dri_dir) {
-  if (card.find('/') != std::string::npos) return card;
-  return dri_dir / card;
-}
-
 DrmFd open_card(const std::filesystem::path& path) {
   DrmFd fd(::open(path.c_str(), O_RDWR | O_CLOEXEC));
   if (fd) return fd;

@@ -62,9 +62,6 @@ using ModeCrtc = std::unique_ptr<drmModeCrtc, CrtcDeleter>;
 // renderD* nodes cannot. Empty when the directory is missing.
 std::vector<std::filesystem::path> list_cards(const std::filesystem::path& dri_dir);
 
-// "card0" -> dri_dir/card0; a path with a '/' is used as it is.
-std::filesystem::path card_path(const std::string& card, const std::filesystem::path& dri_dir);
-
 // Opens a card read-write; DisplayError saying why not (missing, permissions, not DRM).
 DrmFd open_card(const std::filesystem::path& path);
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <thread>
 
+#include "app/outputs/display/drm_inventory.hpp"
 #include "app/outputs/display/kms_modeset.hpp"
 #include "app/outputs/kms_display.hpp"
 #include "app/pipeline/service_config.hpp"
@@ -67,6 +68,18 @@ TEST(KmsErrors, AFileThatIsNotADrmDevice) {
   const std::string all = open_error("", dir);
   EXPECT_NE(all.find("card0 is not a KMS display device"), std::string::npos) << all;
   EXPECT_NE(all.find("card10 is not a KMS display device"), std::string::npos) << all;
+}
+
+TEST(DisplayInventory, ListsUnreadableCardsWithTheReason) {
+  const auto dir = testing::scratch_dir();
+  EXPECT_TRUE(list_displays(dir).empty());
+  std::ofstream(dir / "card0").put('x');
+  const auto cards = list_displays(dir);
+  ASSERT_EQ(cards.size(), 1u);
+  EXPECT_EQ(cards[0].path, dir / "card0");
+  EXPECT_NE(cards[0].error.find("is not a KMS display device"), std::string::npos)
+      << cards[0].error;
+  EXPECT_TRUE(cards[0].connectors.empty());
 }
 
 TEST(KmsErrors, CardPathsByNameOrPath) {
