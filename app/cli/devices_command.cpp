@@ -106,11 +106,19 @@ void print_display(std::ostream& out, const DevicesOptions& opts) {
       std::string size = c.width_mm > 0 ? fmt::format(", {}x{} mm", c.width_mm, c.height_mm) : "";
       out << fmt::format("    {}: {}{}\n", c.info.name,
                          c.info.connected ? "connected" : "disconnected", size);
-      std::string modes;
-      for (const auto& m : c.modes)
-        modes +=
-            fmt::format("{}{}{}", modes.empty() ? "" : " ", m.preferred ? "*" : "", to_string(m));
-      if (!modes.empty()) out << "      modes: " << modes << '\n';
+      // Wrapped at ~90 columns: an HDMI sink offers 30 modes and more.
+      std::string line;
+      const char* label = "      modes: ";
+      for (const auto& m : c.modes) {
+        const std::string item = (m.preferred ? "*" : "") + to_string(m);
+        if (!line.empty() && line.size() + item.size() > 80) {
+          out << label << line << '\n';
+          label = "             ";
+          line.clear();
+        }
+        line += (line.empty() ? "" : " ") + item;
+      }
+      if (!line.empty()) out << label << line << '\n';
     }
     const bool this_card =
         config.display_card.empty() || card_path(config.display_card, "/dev/dri") == card.path;
