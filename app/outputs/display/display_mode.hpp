@@ -39,9 +39,9 @@ struct ModeInfo {
 std::string to_string(const ModeInfo& mode);  // "1024x768@60.00"
 
 // The mode to set: the request's size (and the closest rate within 0.5 Hz when it gives one;
-// without a rate the preferred mode of that size, else its fastest), or with no request the preferred
-// mode, else the first listed (the kernel lists the best first). Throws DisplayError listing
-// what the connector offers when nothing matches.
+// without a rate the preferred mode of that size, else its fastest), or with no request the
+// preferred mode, else the first listed (the kernel lists the best first). Throws
+// DisplayError listing what the connector offers when nothing matches.
 std::size_t choose_mode(std::span<const ModeInfo> modes, const std::optional<ModeRequest>& request,
                         std::string_view connector_name);
 
