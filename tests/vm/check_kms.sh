@@ -9,11 +9,11 @@ here=$(cd "$(dirname "$0")" && pwd)
 binary=$(realpath "$1")
 shift
 [[ -x $binary ]] || { echo "FAIL: $binary is not built"; exit 1; }
-# Mesa in the guest is the host's, and virtio-gpu without virgl has no 3D: its
-# virtio_gpu_dri.so cannot create a screen, so GBM and EGL run on kms_swrast (llvmpipe
-# drawing into dumb buffers the CRTC scans out). MESA_LOADER_DRIVER_OVERRIDE names it at
-# once instead of logging the failed virgl attempt first. No udev in the guest: the module
-# is loaded by hand, then devtmpfs has /dev/dri/card0.
+# Mesa in the guest is the host's, and virtio-gpu without virgl has no 3D, so GBM and EGL
+# run on kms_swrast: llvmpipe drawing into dumb buffers that the CRTC scans out. Mesa 22.3's
+# loader picks kms_swrast_dri.so by itself here (EGL_LOG_LEVEL=debug shows that one dlopen);
+# MESA_LOADER_DRIVER_OVERRIDE pins it so another Mesa cannot change the path under test.
+# No udev in the guest: the module is loaded by hand, then devtmpfs has /dev/dri/card0.
 exec nice "$here/run_in_vm.sh" -t "${PROBELESS_VM_TIMEOUT:-420}" -d virtio-gpu-pci -- \
   env PROBELESS_REQUIRE_KMS=1 MESA_LOADER_DRIVER_OVERRIDE=kms_swrast \
   MESA_SHADER_CACHE_DISABLE=true sh -c \
