@@ -110,13 +110,16 @@ void print_display(std::ostream& out, const DevicesOptions& opts) {
       std::string line;
       const char* label = "      modes: ";
       for (const auto& m : c.modes) {
-        const std::string item = (m.preferred ? "*" : "") + to_string(m);
+        // Appended piecewise: GCC 12 warns (-Wrestrict, a false positive) on operator+ here.
+        std::string item = m.preferred ? "*" : "";
+        item.append(to_string(m));
         if (!line.empty() && line.size() + item.size() > 80) {
           out << label << line << '\n';
           label = "             ";
           line.clear();
         }
-        line += (line.empty() ? "" : " ") + item;
+        if (!line.empty()) line.push_back(' ');
+        line.append(item);
       }
       if (!line.empty()) out << label << line << '\n';
     }
@@ -133,7 +136,7 @@ void print_display(std::ostream& out, const DevicesOptions& opts) {
       chosen = fmt::format("{} {} {}", card.path.filename().string(), conn.info.name,
                            to_string(conn.modes[mi]));
     } catch (const DisplayError& e) {
-      if (!config.display_card.empty()) chosen = std::string("none - ") + e.what();
+      if (!config.display_card.empty()) chosen = fmt::format("none - {}", e.what());
     }
   }
   out << fmt::format("  [display] {}: card '{}', connector '{}', mode '{}'\n",
