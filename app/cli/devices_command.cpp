@@ -1,6 +1,6 @@
 // probeless devices: what this machine offers the service, one section per kind of device.
-// Today OpenCL (platforms, devices, and the one the selector picks) and GPIO chips; cameras and
-// display connectors are further sections of the same list.
+// OpenCL (platforms, devices, and the one the selector picks), GPIO chips and DRM/KMS
+// displays; cameras are further sections of the same list.
 #include <fmt/format.h>
 
 #include <cstdlib>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/cli/commands.hpp"
+#include "app/outputs/display/drm_inventory.hpp"
 #include "app/pipeline/service_config.hpp"
 #include "drivers/trigger/gpio_chips.hpp"
 #include "kernels/runtime/compute_context.hpp"
@@ -109,6 +110,66 @@ void print_gpio(std::ostream& out, const DevicesOptions& opts) {
                      line(config.strobe_chip, config.strobe_line));
 }
 
+// DRM/KMS cards for the tethered display (docs/display.md): connectors, what is plugged in,
+// the modes offered (* = preferred), and what [display] in the config would choose.
+void print_display(std::ostream& out, const DevicesOptions& opts) {
+  using namespace display;
+  out << "Display (DRM/KMS)\n";
+  ServiceConfig config;
+  if (!opts.config_path.empty()) config = load_service_config(opts.config_path);
+  const auto cards = list_displays();
+  if (cards.empty()) out << "  no /dev/dri/card*: no KMS display driver is loaded\n";
+  std::string chosen;
+  for (const auto& card : cards) {
+    out << fmt::format("  {} ({})\n", card.path.string(), card.driver.empty() ? "?" : card.driver);
+    if (!card.error.empty()) out << "    " << card.error << '\n';
+    if (card.error.empty() && card.connectors.empty()) out << "    no connectors (render only)\n";
+    std::vector<ConnectorInfo> infos;
+    for (const auto& c : card.connectors) {
+      infos.push_back(c.info);
+      std::string size = c.width_mm > 0 ? fmt::format(", {}x{} mm", c.width_mm, c.height_mm) : "";
+      out << fmt::format("    {}: {}{}\n", c.info.name,
+                         c.info.connected ? "connected" : "disconnected", size);
+      // Wrapped at ~90 columns: an HDMI sink offers 30 modes and more.
+      std::string line;
+      const char* label = "      modes: ";
+      for (const auto& m : c.modes) {
+        // Appended piecewise: GCC 12 warns (-Wrestrict, a false positive) on operator+ here.
+        std::string item = m.preferred ? "*" : "";
+        item.append(to_string(m));
+        if (!line.empty() && line.size() + item.size() > 80) {
+          out << label << line << '\n';
+          label = "             ";
+          line.clear();
+        }
+        if (!line.empty()) line.push_back(' ');
+        line.append(item);
+      }
+      if (!line.empty()) out << label << line << '\n';
+    }
+    const bool this_card =
+        config.display_card.empty() || card_path(config.display_card, "/dev/dri") == card.path;
+    if (!chosen.empty() || !this_card || !card.error.empty()) continue;
+    try {  // the service's rules (kms_modeset.cpp), on what was just listed
+      const auto ci =
+          choose_connector(infos, config.display_connector, card.path.filename().string());
+      std::optional<ModeRequest> request;
+      if (!config.display_mode.empty()) request = parse_mode_request(config.display_mode);
+      const auto& conn = card.connectors[ci];
+      const auto mi = choose_mode(conn.modes, request, conn.info.name);
+      chosen = fmt::format("{} {} {}", card.path.filename().string(), conn.info.name,
+                           to_string(conn.modes[mi]));
+    } catch (const DisplayError& e) {
+      if (!config.display_card.empty()) chosen = fmt::format("none - {}", e.what());
+    }
+  }
+  out << fmt::format("  [display] {}: card '{}', connector '{}', mode '{}'\n",
+                     config.display_enabled ? "enabled" : "disabled", config.display_card,
+                     config.display_connector, config.display_mode);
+  out << "  selected: "
+      << (chosen.empty() ? "none - no card has a matching connected connector" : chosen) << '\n';
+}
+
 }  // namespace
 
 void add_devices_command(CLI::App& app) {
@@ -121,7 +182,7 @@ void add_devices_command(CLI::App& app) {
   cmd->callback([opts] {
     // One function per section; cameras and display connectors join this list.
     const std::vector<std::function<void(std::ostream&, const DevicesOptions&)>> sections{
-        print_opencl, print_gpio};
+        print_opencl, print_gpio, print_display};
     for (std::size_t i = 0; i < sections.size(); ++i) {
       if (i > 0) std::cout << '\n';
       sections[i](std::cout, *opts);

@@ -6,6 +6,7 @@
 #include "app/outputs/file_output.hpp"
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/jpeg_encoder.hpp"
+#include "app/outputs/kms_display.hpp"
 #include "app/pipeline/frame_processor.hpp"
 #include "app/pipeline/light_capture.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
@@ -47,6 +48,13 @@ void Pipeline::start() {
     files.format = parse_image_file_format(config_.output_format);
     files.write_matte = config_.output_matte;
     files_ = std::make_unique<FileOutput>(files);
+  }
+  if (config_.display_enabled) {
+    KmsDisplayConfig display;
+    display.screen.card = config_.display_card;
+    display.screen.connector = config_.display_connector;
+    display.screen.mode = config_.display_mode;
+    display_ = std::make_unique<KmsDisplay>(display);  // a missing screen is retried, not fatal
   }
   if (rig_.fisheye && config_.bracket_enabled) {
     bracket_ = std::make_unique<BracketSequencer>(config_.bracket);
@@ -91,6 +99,7 @@ void Pipeline::stop() {
   threads_.clear();  // jthread joins
   if (http_) http_->stop();
   if (files_) files_->stop();
+  if (display_) display_->stop();
   state_changed_.notify_all();
 }
 
@@ -320,6 +329,7 @@ void Pipeline::output_loop(std::stop_token stop) {
     auto jpeg = encoder.encode_shared(*f.color);
     if (!f.no_signal) stats_.record("encode", ms_since(t0));
     if (http_) http_->publish({std::move(jpeg), f.timestamp_ns});
+    if (display_) display_->submit(f.color);  // NO SIGNAL frames too: the screen shows the fault
     if (files_ && !f.no_signal) {
       FileOutputFrame ff;
       ff.index = file_index++;
@@ -404,6 +414,7 @@ nlohmann::json Pipeline::status() const {
                         {"failed", fs.failed},
                         {"last_error", fs.last_error}};
   }
+  if (display_) j["display"] = display_->status();
   return j;
 }
 

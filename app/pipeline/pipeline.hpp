@@ -29,6 +29,7 @@ class GpioStrobe;
 
 class HttpServer;
 class FileOutput;
+class KmsDisplay;
 
 // What the processing thread publishes per frame.
 struct CompositeFrame {
@@ -129,6 +130,7 @@ class Pipeline {
 
   std::unique_ptr<HttpServer> http_;
   std::unique_ptr<FileOutput> files_;
+  std::unique_ptr<KmsDisplay> display_;  // [display] enabled
 
   mutable std::mutex state_mutex_;
   std::condition_variable state_changed_;

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/outputs/display/display_mode.hpp"
 #include "core/error.hpp"
 #include "core/toml_reader.hpp"
 #include "drivers/sim/sim_rig.hpp"
@@ -72,7 +73,7 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
   ServiceConfig c;
   r.only(root, "the top level",
          {"source", "object", "ground", "occlusion", "http", "output", "opencl", "pipeline",
-          "bracket", "light"});
+          "bracket", "light", "display"});
   if (auto* t = r.optional_table(root, "source")) {
     r.only(*t, "[source]", {"rig"});
     r.get(*t, "rig", c.source);
@@ -181,6 +182,20 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
       r.fail(t->get("face_size"), "face_size must be a multiple of 32 in 32..1024");
     if (!(c.light_keyframe_distance_m > 0))
       r.fail(t->get("keyframe_distance_m"), "keyframe_distance_m must be positive");
+  }
+  if (auto* t = r.optional_table(root, "display")) {
+    r.only(*t, "[display]", {"enabled", "card", "connector", "mode"});
+    r.get(*t, "enabled", c.display_enabled);
+    r.get(*t, "card", c.display_card);
+    r.get(*t, "connector", c.display_connector);
+    r.get(*t, "mode", c.display_mode);
+    if (!c.display_mode.empty()) {
+      try {
+        display::parse_mode_request(c.display_mode);
+      } catch (const display::DisplayError& e) {
+        r.fail(t->get("mode"), e.what());
+      }
+    }
   }
   if (auto* t = r.optional_table(root, "pipeline")) {
     r.only(*t, "[pipeline]", {"frames", "no_signal_after_ms"});

@@ -87,6 +87,13 @@ struct ServiceConfig {
   Eigen::Vector3d light_room_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d light_room_max = Eigen::Vector3d::Zero();
 
+  // [display]: the tethered screen, EGL on GBM + KMS (docs/display.md). Off by default: a
+  // service that grabs the console's screen must be asked to.
+  bool display_enabled = false;
+  std::string display_card;       // "card0" or a path; empty: the first card with a connector
+  std::string display_connector;  // "HDMI-A-1", "Virtual-1"; empty: the first connected
+  std::string display_mode;       // "1920x1080" or "1920x1080@60"; empty: the preferred mode
+
   std::int64_t max_frames = 0;  // 0 = run until stopped
   // A source that has delivered nothing for this long is "no signal": outputs show the last
   // good frame with a NO SIGNAL banner. 250 ms is 7 frames at 30 Hz: long enough to ride out

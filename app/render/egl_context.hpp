@@ -17,8 +17,8 @@
 
 namespace probeless::render {
 
-// Where the display comes from. The choice lives here only: a tethered display (GBM on a KMS
-// device) becomes one more enumerator and one more case in open_display() (egl_context.cpp).
+// Where the display comes from. The choice lives here only. (The tethered display's EGL on
+// GBM is not one of these: it has its own display, surface and thread, docs/display.md.)
 enum class EglPlatform {
   Surfaceless,  // EGL_MESA_platform_surfaceless: GPU render node if any, else llvmpipe
   Device,       // EGL_EXT_platform_device: the first EGLDevice that initialises

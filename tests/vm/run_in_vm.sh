@@ -6,22 +6,24 @@
 # the command and its shared libraries are the host's own files. The command's exit status
 # comes back as a marker line on the serial console.
 #
-# Usage: run_in_vm.sh [-t TIMEOUT_S] [-m MEM] [-w DIR] -- COMMAND [ARGS...]
-#   -w DIR   working directory of the command inside the guest (default: the current one)
+# Usage: run_in_vm.sh [-t TIMEOUT_S] [-m MEM] [-w DIR] [-d DEVICE]... -- COMMAND [ARGS...]
+#   -w DIR     working directory of the command inside the guest (default: the current one)
+#   -d DEVICE  an extra QEMU device (`-device DEVICE`), e.g. virtio-gpu-pci; repeatable. Its
+#              driver is the command's to load (modprobe finds the host's modules).
 # Exits with the command's status, 77 when the VM cannot run here (the reason on stdout),
 # 124 when the VM timed out. PROBELESS_VM_KERNEL picks another /boot/vmlinuz-*.
 set -euo pipefail
 
-timeout_s=300 mem=768M workdir=$PWD
-while getopts "t:m:w:" opt; do
+timeout_s=300 mem=768M workdir=$PWD devices=()
+while getopts "t:m:w:d:" opt; do
   case $opt in
-    t) timeout_s=$OPTARG ;; m) mem=$OPTARG ;; w) workdir=$OPTARG ;;
-    *) echo "usage: $0 [-t S] [-m MEM] [-w DIR] -- COMMAND..." >&2; exit 2 ;;
+    t) timeout_s=$OPTARG ;; m) mem=$OPTARG ;; w) workdir=$OPTARG ;; d) devices+=(-device "$OPTARG") ;;
+    *) echo "usage: $0 [-t S] [-m MEM] [-w DIR] [-d DEVICE]... -- COMMAND..." >&2; exit 2 ;;
   esac
 done
 shift $((OPTIND - 1))
 [[ ${1:-} == -- ]] && shift
-(($# > 0)) || { echo "usage: $0 [-t S] [-m MEM] [-w DIR] -- COMMAND..." >&2; exit 2; }
+(($# > 0)) || { echo "usage: $0 [-t S] [-m MEM] [-w DIR] [-d DEVICE]... -- COMMAND..." >&2; exit 2; }
 
 skip() { echo "SKIP: $*"; exit 77; }
 qemu=$(command -v qemu-system-x86_64) || skip "qemu-system-x86_64 is not installed (scripts/setup.sh)"
@@ -103,7 +105,7 @@ timeout --foreground "$timeout_s" "$qemu" -accel tcg -cpu max -smp 2 -m "$mem" -
   -kernel "$kernel" -initrd "$scratch/initramfs.cpio.gz" \
   -append "console=ttyS0 ${PROBELESS_VM_APPEND:-quiet loglevel=3} panic=-1 rdinit=/init" \
   -virtfs local,path=/,mount_tag=host,security_model=none,readonly=on,multidevs=remap \
-  </dev/null | tee "$log"
+  "${devices[@]}" </dev/null | tee "$log"
 qemu_status=${PIPESTATUS[0]}
 set -e
 echo "VM: $(($(date +%s) - start)) s (kernel $kver, TCG)"

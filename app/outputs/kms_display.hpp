@@ -1,0 +1,68 @@
+#pragma once
+// The tethered display as a pipeline output (docs/display.md): the composite shown full
+// screen on a KMS connector, EGL on GBM, no display server. Like the other outputs it never
+// slows the pipeline: submit() replaces the newest frame in a LatestFrame slot and returns,
+// and the display's own thread draws, flips and waits for vblank, skipping frames it had no
+// time for. A screen that cannot be opened (no card yet, connector unplugged, another DRM
+// master) is retried every `retry_every`, with the reason in status() and logged once.
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+
+#include "app/outputs/display/kms_screen.hpp"
+#include "app/outputs/latest_frame.hpp"
+#include "app/pipeline/stage_stats.hpp"
+#include "core/image.hpp"
+
+namespace probeless {
+
+struct KmsDisplayConfig {
+  display::KmsScreenConfig screen;
+  std::chrono::milliseconds retry_every{2000};
+};
+
+struct KmsDisplayStats {
+  std::string state = "opening";                        // "opening", "showing", "error" (retrying)
+  std::string card, driver, connector, mode, renderer;  // of the screen last opened
+  std::uint64_t frames_in = 0;
+  std::uint64_t frames_shown = 0;  // mode sets plus flips
+  std::uint64_t flips = 0;         // completed page flips (vblank events)
+  std::uint64_t dropped = 0;       // replaced before the display thread took them
+  double flips_per_s = 0;
+  double last_flip_interval_ms = 0;  // between the last two vblank timestamps
+  std::string last_error;
+};
+
+class KmsDisplay {
+ public:
+  // Checks the mode string at once (DisplayError), then opens the screen on its thread.
+  explicit KmsDisplay(KmsDisplayConfig config);
+  ~KmsDisplay();
+  KmsDisplay(const KmsDisplay&) = delete;
+  KmsDisplay& operator=(const KmsDisplay&) = delete;
+
+  void submit(std::shared_ptr<const ImageRGB8> frame);
+  // Joins the thread; the screen's destructor puts the previous CRTC back. Idempotent.
+  void stop();
+
+  KmsDisplayStats stats() const;
+  nlohmann::json status() const;  // stats() for /status
+
+ private:
+  void run(std::stop_token stop);
+  bool open_screen(std::unique_ptr<display::KmsScreen>& screen);
+  void record_error(const std::string& what);
+
+  KmsDisplayConfig config_;
+  LatestFrame<std::shared_ptr<const ImageRGB8>> frames_;
+  RateMeter rate_;
+  mutable std::mutex mutex_;
+  KmsDisplayStats stats_;
+  std::jthread thread_;
+};
+
+}  // namespace probeless
