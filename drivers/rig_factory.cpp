@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "drivers/openni2/openni2_rig.hpp"
 #include "drivers/replay/calibration_file.hpp"
 #include "drivers/replay/playback.hpp"
 #include "drivers/replay/replay_source.hpp"
@@ -64,7 +65,8 @@ Rig open_combined_rig(std::string_view rgbd_spec, std::string fisheye_spec) {
 std::string rig_spec_help() {
   return "sim, sim:<options>, replay:DIR[?realtime=0,loop=1,rebase=1], "
          "tum:DIR[?realtime=0,loop=1,calibration=FILE], "
-         "v4l2:DEVICE[?size=WxH&fps=N&calibration=FILE...], RGBD_SPEC+v4l2:DEVICE[?...]";
+         "v4l2:DEVICE[?size=WxH&fps=N&calibration=FILE...], RGBD_SPEC+v4l2:DEVICE[?...], "
+         "openni2:[URI][?size=WxH&fps=N...], openni2:FILE.oni[?speed=X&repeat=0|1]";
 }
 
 std::unique_ptr<FisheyeSource> open_fisheye_source(std::string_view spec) {
@@ -103,6 +105,9 @@ Rig open_rig(std::string_view spec) {
     }
     return replay::open_tum_rig(d.dir, options, calibration);
   }
+  // The RGB-D camera through OpenNI2 (docs/drivers.md "OpenNI2 RGB-D"); with a fisheye:
+  // "openni2:...+v4l2:...".
+  if (scheme == "openni2") return openni2::open_openni2_rig(rest);
   // A V4L2 camera is a fisheye only: until an RGB-D driver exists the RGB-D stream is the
   // synthetic rig's (docs/drivers.md "Spec").
   if (scheme == "v4l2") return open_combined_rig("sim", std::string(spec));

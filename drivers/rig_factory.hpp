@@ -8,6 +8,8 @@
 // rebase=0|1 (0); TUM also calibration=FILE.
 //   v4l2:DEVICE[?options]          the synthetic rig's RGB-D with a V4L2 fisheye
 //   RGBD_SPEC+v4l2:DEVICE[?opts]   any of the above's RGB-D with a V4L2 fisheye
+//   openni2:[URI][?options]        an OpenNI2 RGB-D sensor (the first one without a URI)
+//   openni2:FILE.oni[?options]     an OpenNI2 recording (drivers/openni2/openni2_options.hpp)
 // V4L2 options: drivers/v4l2/v4l2_options.hpp, plus calibration=FILE (the rig's calibration
 // TOML, replacing the RGB-D rig's; docs/drivers.md).
 #include <memory>

@@ -10,8 +10,10 @@
 #include <vector>
 
 #include "app/cli/commands.hpp"
+#include "app/cli/devices_rgbd.hpp"
 #include "app/outputs/display/drm_inventory.hpp"
 #include "app/pipeline/service_config.hpp"
+#include "drivers/openni2/openni2_options.hpp"
 #include "drivers/trigger/gpio_chips.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_list.hpp"
@@ -170,6 +172,18 @@ void print_display(std::ostream& out, const DevicesOptions& opts) {
       << (chosen.empty() ? "none - no card has a matching connected connector" : chosen) << '\n';
 }
 
+// The sensor vendors of the configured openni2: source, or the defaults.
+void print_rgbd(std::ostream& out, const DevicesOptions& opts) {
+  ServiceConfig config;
+  if (!opts.config_path.empty()) config = load_service_config(opts.config_path);
+  const std::string_view spec = config.source;
+  const bool openni = spec.starts_with("openni2:");
+  const auto end = spec.find('+');
+  const auto options = openni2::parse_openni2_options(
+      openni ? spec.substr(8, end == std::string_view::npos ? end : end - 8) : "");
+  print_rgbd_sensors(out, options.usb_vendors);
+}
+
 }  // namespace
 
 void add_devices_command(CLI::App& app) {
@@ -182,7 +196,7 @@ void add_devices_command(CLI::App& app) {
   cmd->callback([opts] {
     // One function per section; cameras and display connectors join this list.
     const std::vector<std::function<void(std::ostream&, const DevicesOptions&)>> sections{
-        print_opencl, print_gpio, print_display};
+        print_opencl, print_rgbd, print_gpio, print_display};
     for (std::size_t i = 0; i < sections.size(); ++i) {
       if (i > 0) std::cout << '\n';
       sections[i](std::cout, *opts);

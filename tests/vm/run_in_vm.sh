@@ -12,6 +12,8 @@
 #              driver is the command's to load (modprobe finds the host's modules).
 # Exits with the command's status, 77 when the VM cannot run here (the reason on stdout),
 # 124 when the VM timed out. PROBELESS_VM_KERNEL picks another /boot/vmlinuz-*.
+# PROBELESS_VM_QEMU_ARGS adds QEMU arguments (split on spaces), e.g. an emulated USB
+# controller and a monitor for hot-adding devices (check_usb_hotplug.sh).
 set -euo pipefail
 
 timeout_s=300 mem=768M workdir=$PWD devices=()
@@ -105,7 +107,7 @@ timeout --foreground "$timeout_s" "$qemu" -accel tcg -cpu max -smp 2 -m "$mem" -
   -kernel "$kernel" -initrd "$scratch/initramfs.cpio.gz" \
   -append "console=ttyS0 ${PROBELESS_VM_APPEND:-quiet loglevel=3} panic=-1 rdinit=/init" \
   -virtfs local,path=/,mount_tag=host,security_model=none,readonly=on,multidevs=remap \
-  "${devices[@]}" </dev/null | tee "$log"
+  "${devices[@]}" ${PROBELESS_VM_QEMU_ARGS:-} </dev/null | tee "$log"
 qemu_status=${PIPESTATUS[0]}
 set -e
 echo "VM: $(($(date +%s) - start)) s (kernel $kver, TCG)"
