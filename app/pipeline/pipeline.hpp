@@ -46,7 +46,7 @@ struct PipelineOptions {
   // benchmarks and tests that count frames. The service runs lossy (latest frame wins).
   bool lossless = false;
   bool keep_matte = false;
-  bool serve_http = true;  // HTTP and RTSP from config unless false here (benchmarks)
+  bool serve_http = true;               // HTTP and RTSP from config; false: none (benchmarks)
   SystemdNotifier* notifier = nullptr;  // WATCHDOG=1 from the processing loop when set
 };
 

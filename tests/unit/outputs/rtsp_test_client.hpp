@@ -31,9 +31,11 @@ class RtspTestClient {
     // latency=0: no jitter-buffer delay on loopback, so what is measured is the server's.
     // output-corrupt=false: a client that joins between keyframes shows nothing until the
     // next one, as players do, instead of the decoder's guesses from missing references.
+    // thread-type=slice: FFmpeg's default frame threading holds one frame per extra thread
+    // back, which would be counted as the server's latency.
     const std::string launch =
         "rtspsrc location=" + url + " protocols=" + transport +
-        " latency=0 ! rtph264depay ! avdec_h264 output-corrupt=false ! videoconvert ! "
+        " latency=0 ! rtph264depay ! avdec_h264 output-corrupt=false thread-type=slice ! videoconvert ! "
         "video/x-raw,format=RGB ! appsink name=sink sync=false "
         "max-buffers=8";
     GError* raw = nullptr;
