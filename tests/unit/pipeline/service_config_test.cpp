@@ -168,9 +168,6 @@ TEST(LightCapture, RoomFromConfiguration) {
   EXPECT_NO_THROW(LightCapture(c, calibration));
 }
 
-}  // namespace
-}  // namespace probeless
-
 // [rtsp] is additive: off by default, every key parsed, bad values named with their line.
 TEST(ServiceConfig, RtspSection) {
   const ServiceConfig d = parse_service_config("");
@@ -207,3 +204,6 @@ encoder = "x264enc"
     EXPECT_NE(std::string(e.what()).find("path"), std::string::npos) << e.what();
   }
 }
+
+}  // namespace
+}  // namespace probeless
