@@ -30,6 +30,9 @@ struct RtspServerConfig {
   std::string path = "/probeless";    // "/name[/name...]" of letters, digits, '.', '_', '-'
   int bitrate_kbps = 2000;     // ~2 Mbit/s: a 640x480 scene at 30 Hz without visible blocking
   int keyframe_interval = 30;  // frames; a client joining late waits up to this long
+  // The rate the stream declares (the camera's). The encoder budgets bitrate_kbps per frame
+  // with it; frames keep their own timestamps.
+  int framerate = 30;
   // "auto" (v4l2h264enc if present, else x264enc), or one of them by name.
   std::string encoder = "auto";
   // Frames waiting in the appsrc before new ones are dropped: the encoder is behind.

@@ -193,7 +193,9 @@ TEST(RtspServer, StreamsWhatWasPushedToARealClient) {
       "[ rtsp ] %d frames over loopback (tcp), push -> decoded latency p50 %.1f ms, "
       "p95 %.1f ms, worst colour error %.1f\n",
       r.frames, p50, p95, r.worst_colour_error);
-  EXPECT_LT(p50, 500.0) << "a live stream, not a buffered one";
+  // Under a frame period: measured 3-4 ms p50 on a loaded 2-core machine; an encoder that
+  // holds a frame back (x264 given variable-rate caps did: 41 ms) fails here.
+  EXPECT_LT(p50, 33.0) << "a frame is held back somewhere";
 
   const RtspServerStats s = server.stats();
   EXPECT_EQ(s.clients, 1);
@@ -289,6 +291,9 @@ TEST(RtspServer, BadConfigurationIsAClearError) {
   c = ephemeral();
   c.keyframe_interval = 0;
   expect_error(c, "keyframe_interval");
+  c = ephemeral();
+  c.framerate = 0;
+  expect_error(c, "framerate");
   c = ephemeral();
   c.address = "192.0.2.1";  // TEST-NET-1 (RFC 5737): on no interface of this machine
   expect_error(c, "cannot listen on 192.0.2.1");

@@ -33,11 +33,11 @@ class RtspTestClient {
     // next one, as players do, instead of the decoder's guesses from missing references.
     // thread-type=slice: FFmpeg's default frame threading holds one frame per extra thread
     // back, which would be counted as the server's latency.
-    const std::string launch =
-        "rtspsrc location=" + url + " protocols=" + transport +
-        " latency=0 ! rtph264depay ! avdec_h264 output-corrupt=false thread-type=slice ! videoconvert ! "
-        "video/x-raw,format=RGB ! appsink name=sink sync=false "
-        "max-buffers=8";
+    const std::string launch = "rtspsrc location=" + url + " protocols=" + transport +
+                               " latency=0 ! rtph264depay ! avdec_h264 output-corrupt=false "
+                               "thread-type=slice ! videoconvert ! "
+                               "video/x-raw,format=RGB ! appsink name=sink sync=false "
+                               "max-buffers=8";
     GError* raw = nullptr;
     pipeline_ = gst::Element::adopt_sink(gst_parse_launch(launch.c_str(), &raw));
     if (raw) {

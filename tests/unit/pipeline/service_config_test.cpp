@@ -182,6 +182,7 @@ port = 9554
 path = "/cam/main"
 bitrate_kbps = 4000
 keyframe_interval = 15
+framerate = 25
 encoder = "x264enc"
 )");
   EXPECT_TRUE(c.rtsp_enabled);
@@ -190,6 +191,8 @@ encoder = "x264enc"
   EXPECT_EQ(c.rtsp.path, "/cam/main");
   EXPECT_EQ(c.rtsp.bitrate_kbps, 4000);
   EXPECT_EQ(c.rtsp.keyframe_interval, 15);
+  EXPECT_EQ(c.rtsp.framerate, 25);
+  EXPECT_THROW(parse_service_config("[rtsp]\nframerate = 0\n"), ParseError);
   EXPECT_EQ(c.rtsp.encoder, "x264enc");
   EXPECT_THROW(parse_service_config("[rtsp]\nport = 70000\n"), ParseError);
   EXPECT_THROW(parse_service_config("[rtsp]\nbitrate_kbps = 10\n"), ParseError);
