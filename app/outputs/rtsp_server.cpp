@@ -57,7 +57,7 @@ struct Feed {
   gst::Element appsrc;  // its source
   int width = 0, height = 0;
   GstClockTime last_pts = GST_CLOCK_TIME_NONE;
-  std::atomic<std::uint64_t> pushed{0}, sent{0}, no_client{0}, queue_full{0};
+  std::atomic<std::uint64_t> pushed{0}, sent{0}, no_client{0}, queue_full{0}, media_created{0};
 };
 using FeedRef = std::shared_ptr<Feed>;
 
@@ -83,6 +83,7 @@ void on_media_configure(GstRTSPMediaFactory*, GstRTSPMedia* media, gpointer data
   }
   g_signal_connect_data(media, "unprepared", G_CALLBACK(on_media_unprepared), new FeedRef(ref),
                         delete_feed_ref, GConnectFlags{});
+  ++ref->media_created;
   std::lock_guard lock(ref->mutex);
   ref->media = Media::share(media);
   ref->appsrc = std::move(src);
@@ -114,6 +115,7 @@ nlohmann::json to_json(const RtspServerStats& s) {
   return {{"url", s.url},
           {"encoder", s.encoder},
           {"clients", s.clients},
+          {"media_created", s.media_created},
           {"frames_pushed", s.frames_pushed},
           {"frames_sent", s.frames_sent},
           {"dropped_no_client", s.dropped_no_client},
@@ -359,6 +361,7 @@ RtspServerStats RtspServer::stats() const {
   s.clients = static_cast<int>(g_list_length(clients));
   g_list_free_full(clients, g_object_unref);
   const Feed& f = *m.feed;
+  s.media_created = f.media_created;
   s.frames_pushed = f.pushed;
   s.frames_sent = f.sent;
   s.dropped_no_client = f.no_client;

@@ -43,6 +43,7 @@ struct RtspServerStats {
   std::string url;
   std::string encoder;
   int clients = 0;                       // RTSP connections open
+  std::uint64_t media_created = 0;       // encoder pipelines built: one per viewing period
   std::uint64_t frames_pushed = 0;       // offered to push()
   std::uint64_t frames_sent = 0;         // handed to the encoder
   std::uint64_t dropped_no_client = 0;   // nobody playing: not encoded at all

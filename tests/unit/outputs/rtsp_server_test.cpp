@@ -219,7 +219,9 @@ TEST(RtspServer, TwoClientsShareTheStream) {
   EXPECT_GE(b.frames, 10);
   EXPECT_LT(a.worst_colour_error, 12.0);
   EXPECT_LT(b.worst_colour_error, 12.0);
-  EXPECT_EQ(server.stats().clients, 2);
+  const RtspServerStats s = server.stats();
+  EXPECT_EQ(s.clients, 2);
+  EXPECT_EQ(s.media_created, 1u) << "one shared media, one encoder";
 }
 
 TEST(RtspServer, StopsCleanlyWithAClientConnected) {
@@ -246,6 +248,7 @@ TEST(RtspServer, DropsWithoutBlockingWhenNobodyWatches) {
   EXPECT_LT(Clock::now() - t0, 100ms);
   const RtspServerStats s = server.stats();
   EXPECT_EQ(s.frames_pushed, 100u);
+  EXPECT_EQ(s.media_created, 0u) << "nothing is encoded for nobody";
   EXPECT_EQ(s.dropped_no_client, 100u);
   EXPECT_EQ(s.frames_sent, 0u);
   EXPECT_EQ(s.clients, 0);
