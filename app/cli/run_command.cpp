@@ -52,6 +52,8 @@ void run(const RunArgs& args) {
   if (!pipeline.url().empty())
     std::cout << "probeless: serving " << pipeline.url() << "/  (stream: " << pipeline.url()
               << "/stream, status: " << pipeline.url() << "/status)" << std::endl;
+  if (!pipeline.rtsp_url().empty())
+    std::cout << "probeless: H.264 stream " << pipeline.rtsp_url() << std::endl;
   if (!config.output_dir.empty())
     std::cout << "probeless: writing frames to " << config.output_dir << std::endl;
 

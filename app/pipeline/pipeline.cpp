@@ -7,6 +7,7 @@
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/jpeg_encoder.hpp"
 #include "app/outputs/kms_display.hpp"
+#include "app/outputs/rtsp_server.hpp"
 #include "app/pipeline/frame_processor.hpp"
 #include "app/pipeline/light_capture.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
@@ -42,6 +43,8 @@ void Pipeline::start() {
     http.port = config_.http_port;
     http_ = std::make_unique<HttpServer>(http, [this] { return status(); });
   }
+  if (options_.serve_http && config_.rtsp_enabled)
+    rtsp_ = std::make_unique<RtspServer>(config_.rtsp);  // throws: port in use, no encoder
   if (!config_.output_dir.empty()) {
     FileOutputConfig files;
     files.dir = config_.output_dir;
@@ -98,6 +101,7 @@ void Pipeline::stop() {
   output_.close();
   threads_.clear();  // jthread joins
   if (http_) http_->stop();
+  if (rtsp_) rtsp_->stop();
   if (files_) files_->stop();
   if (display_) display_->stop();
   state_changed_.notify_all();
@@ -121,6 +125,10 @@ std::optional<std::string> Pipeline::fatal_error() const {
 
 std::string Pipeline::url() const {
   return http_ ? http_->url() : std::string();
+}
+
+std::string Pipeline::rtsp_url() const {
+  return rtsp_ ? rtsp_->url() : std::string();
 }
 
 void Pipeline::fail(const std::string& what) {
@@ -325,6 +333,9 @@ void Pipeline::output_loop(std::stop_token stop) {
     if (!item) continue;
     seen = item->sequence;
     const CompositeFrame& f = item->value;
+    // Raw RGB to the H.264 encoder's queue (never blocks). A NO SIGNAL repeat keeps the
+    // last good frame's capture time; the stream shows it now.
+    if (rtsp_) rtsp_->push(f.color, f.no_signal ? monotonic_now_ns() : f.timestamp_ns);
     const auto t0 = std::chrono::steady_clock::now();
     auto jpeg = encoder.encode_shared(*f.color);
     if (!f.no_signal) stats_.record("encode", ms_since(t0));
@@ -407,6 +418,7 @@ nlohmann::json Pipeline::status() const {
     j["device"] = device_name_;
     if (fatal_) j["error"] = *fatal_;
   }
+  if (rtsp_) j["rtsp"] = to_json(rtsp_->stats());
   if (files_) {
     const auto fs = files_->stats();
     j["file_output"] = {{"written", fs.written},

@@ -28,6 +28,7 @@ class LightCapture;
 class GpioStrobe;
 
 class HttpServer;
+class RtspServer;
 class FileOutput;
 class KmsDisplay;
 
@@ -47,7 +48,7 @@ struct PipelineOptions {
   // benchmarks and tests that count frames. The service runs lossy (latest frame wins).
   bool lossless = false;
   bool keep_matte = false;
-  bool serve_http = true;               // from config unless false here (benchmarks)
+  bool serve_http = true;               // HTTP and RTSP from config; false: none (benchmarks)
   SystemdNotifier* notifier = nullptr;  // WATCHDOG=1 from the processing loop when set
   // Fault injection for the watchdog test (`run --fault-hang-after N`): after N frames the
   // processing loop stops working, as one stuck in a driver or OpenCL call would: no frames,
@@ -78,7 +79,8 @@ class Pipeline {
   std::optional<std::string> fatal_error() const;
 
   nlohmann::json status() const;
-  std::string url() const;  // the HTTP viewer's, empty without HTTP
+  std::string url() const;       // the HTTP viewer's, empty without HTTP
+  std::string rtsp_url() const;  // the H.264 stream's, empty without RTSP
   LatestFrame<CompositeFrame>& output() { return output_; }
   const StageStats& stats() const { return stats_; }
   std::uint64_t frames_processed() const { return processed_.load(); }
@@ -129,6 +131,7 @@ class Pipeline {
   std::atomic<std::uint64_t> encoded_{0};
 
   std::unique_ptr<HttpServer> http_;
+  std::unique_ptr<RtspServer> rtsp_;
   std::unique_ptr<FileOutput> files_;
   std::unique_ptr<KmsDisplay> display_;  // [display] enabled
 

@@ -73,7 +73,7 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
   ServiceConfig c;
   r.only(root, "the top level",
          {"source", "object", "ground", "occlusion", "http", "output", "opencl", "pipeline",
-          "bracket", "light", "display"});
+          "bracket", "light", "display", "rtsp"});
   if (auto* t = r.optional_table(root, "source")) {
     r.only(*t, "[source]", {"rig"});
     r.get(*t, "rig", c.source);
@@ -97,6 +97,34 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
     if (c.http_port < 0 || c.http_port > 65535) r.fail(t->get("port"), "port out of range");
     if (c.jpeg_quality < 1 || c.jpeg_quality > 100)
       r.fail(t->get("jpeg_quality"), "jpeg_quality must be 1..100");
+  }
+  if (auto* t = r.optional_table(root, "rtsp")) {
+    r.only(*t, "[rtsp]",
+           {"enabled", "address", "port", "path", "bitrate_kbps", "keyframe_interval", "framerate",
+            "encoder"});
+    r.get(*t, "enabled", c.rtsp_enabled);
+    r.get(*t, "address", c.rtsp.address);
+    r.get(*t, "port", c.rtsp.port);
+    r.get(*t, "path", c.rtsp.path);
+    r.get(*t, "bitrate_kbps", c.rtsp.bitrate_kbps);
+    r.get(*t, "keyframe_interval", c.rtsp.keyframe_interval);
+    r.get(*t, "framerate", c.rtsp.framerate);
+    r.get(*t, "encoder", c.rtsp.encoder);
+    if (c.rtsp.port < 0 || c.rtsp.port > 65535) r.fail(t->get("port"), "port out of range");
+    try {
+      check_rtsp_path(c.rtsp.path);
+    } catch (const RtspServerError& e) {
+      r.fail(t->get("path"), e.what());
+    }
+    if (c.rtsp.bitrate_kbps < 64 || c.rtsp.bitrate_kbps > 100000)
+      r.fail(t->get("bitrate_kbps"), "bitrate_kbps must be in 64..100000");
+    if (c.rtsp.keyframe_interval < 1 || c.rtsp.keyframe_interval > 600)
+      r.fail(t->get("keyframe_interval"), "keyframe_interval must be in 1..600 frames");
+    if (c.rtsp.framerate < 1 || c.rtsp.framerate > 240)
+      r.fail(t->get("framerate"), "framerate must be in 1..240");
+    static const std::set<std::string> encoders{"auto", "v4l2h264enc", "x264enc"};
+    if (!encoders.contains(c.rtsp.encoder))
+      r.fail(t->get("encoder"), "encoder must be \"auto\", \"v4l2h264enc\" or \"x264enc\"");
   }
   if (auto* t = r.optional_table(root, "output")) {
     r.only(*t, "[output]", {"dir", "format", "matte"});

@@ -9,6 +9,7 @@
 #include <string_view>
 #include <vector>
 
+#include "app/outputs/rtsp_server.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 
 namespace probeless {
@@ -52,6 +53,11 @@ struct ServiceConfig {
   std::string http_address = "127.0.0.1";  // loopback by default: an appliance opens up on purpose
   int http_port = 8080;
   int jpeg_quality = 80;
+
+  // [rtsp]: H.264 over RTSP beside the MJPEG (docs/outputs.md "RTSP"). Off by default: it
+  // needs GStreamer's encoder plugins, which a minimal install may not have.
+  bool rtsp_enabled = false;
+  RtspServerConfig rtsp;
 
   std::string output_dir;              // empty: no file output
   std::string output_format = "jpeg";  // "jpeg" or "png"

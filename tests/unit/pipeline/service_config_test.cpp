@@ -173,5 +173,45 @@ TEST(LightCapture, RoomFromConfiguration) {
   EXPECT_NO_THROW(LightCapture(c, calibration));
 }
 
+// [rtsp] is additive: off by default, every key parsed, bad values named with their line.
+TEST(ServiceConfig, RtspSection) {
+  const ServiceConfig d = parse_service_config("");
+  EXPECT_FALSE(d.rtsp_enabled);
+  EXPECT_EQ(d.rtsp.port, 8554);
+  EXPECT_EQ(d.rtsp.path, "/probeless");
+  EXPECT_EQ(d.rtsp.encoder, "auto");
+  const ServiceConfig c = parse_service_config(R"([rtsp]
+enabled = true
+address = "0.0.0.0"
+port = 9554
+path = "/cam/main"
+bitrate_kbps = 4000
+keyframe_interval = 15
+framerate = 25
+encoder = "x264enc"
+)");
+  EXPECT_TRUE(c.rtsp_enabled);
+  EXPECT_EQ(c.rtsp.address, "0.0.0.0");
+  EXPECT_EQ(c.rtsp.port, 9554);
+  EXPECT_EQ(c.rtsp.path, "/cam/main");
+  EXPECT_EQ(c.rtsp.bitrate_kbps, 4000);
+  EXPECT_EQ(c.rtsp.keyframe_interval, 15);
+  EXPECT_EQ(c.rtsp.framerate, 25);
+  EXPECT_THROW(parse_service_config("[rtsp]\nframerate = 0\n"), ParseError);
+  EXPECT_EQ(c.rtsp.encoder, "x264enc");
+  EXPECT_THROW(parse_service_config("[rtsp]\nport = 70000\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[rtsp]\nbitrate_kbps = 10\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[rtsp]\nkeyframe_interval = 0\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[rtsp]\nencoder = \"nvenc\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[rtsp]\nmount = \"/x\"\n"), ParseError);
+  try {
+    parse_service_config("[rtsp]\nenabled = true\npath = \"probeless\"\n", "svc.toml");
+    FAIL() << "expected ParseError";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("path"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace probeless

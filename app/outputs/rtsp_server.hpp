@@ -1,0 +1,96 @@
+#pragma once
+// The composite as H.264 over RTSP (gst-rtsp-server), beside the MJPEG/HTTP output, for
+// players that want a real video stream: `ffplay -rtsp_transport tcp rtsp://HOST:8554/probeless`,
+// VLC, NVRs and Home Assistant's generic camera.
+//
+// One shared media (one encoder, whatever the number of clients):
+//
+//   appsrc (RGB, PTS from the frames' capture clock) ! videoconvert ! I420 ! H.264 encoder
+//     ! rtph264pay (SPS/PPS with every keyframe, so a client joining late starts at the next)
+//
+// The encoder is the board's V4L2 memory-to-memory one (v4l2h264enc) when GStreamer has it,
+// else x264enc (ultrafast, zerolatency); encoder_name() says which. The GLib main loop runs
+// on this object's own thread. push() never blocks the pipeline: with no client playing, or
+// with the encoder `max_queued_frames` behind, the frame is dropped and counted.
+// docs/outputs.md "RTSP" has the details and the measured cost.
+#include <cstdint>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+
+#include "core/image.hpp"
+#include "core/time.hpp"
+
+namespace probeless {
+
+struct RtspServerConfig {
+  std::string address = "127.0.0.1";  // as [http]: an appliance opens to the network on purpose
+  int port = 8554;                    // the RTSP default; 0 takes an ephemeral port (tests)
+  std::string path = "/probeless";    // "/name[/name...]" of letters, digits, '.', '_', '-'
+  int bitrate_kbps = 2000;     // ~2 Mbit/s: a 640x480 scene at 30 Hz without visible blocking
+  int keyframe_interval = 30;  // frames; a client joining late waits up to this long
+  // The rate the stream declares (the camera's). The encoder budgets bitrate_kbps per frame
+  // with it; frames keep their own timestamps.
+  int framerate = 30;
+  // "auto" (v4l2h264enc if present, else x264enc), or one of them by name.
+  std::string encoder = "auto";
+  // Frames waiting in the appsrc before new ones are dropped: the encoder is behind.
+  int max_queued_frames = 2;
+};
+
+struct RtspServerStats {
+  std::string url;
+  std::string encoder;
+  int clients = 0;                       // RTSP connections open
+  std::uint64_t media_created = 0;       // encoder pipelines built: one per viewing period
+  std::uint64_t frames_pushed = 0;       // offered to push()
+  std::uint64_t frames_sent = 0;         // handed to the encoder
+  std::uint64_t dropped_no_client = 0;   // nobody playing: not encoded at all
+  std::uint64_t dropped_queue_full = 0;  // the encoder was behind
+};
+
+nlohmann::json to_json(const RtspServerStats& stats);
+
+struct RtspServerError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// "auto", "v4l2h264enc" or "x264enc" resolved against the installed GStreamer plugins;
+// RtspServerError naming the Debian package to install when the wanted one is missing.
+std::string choose_h264_encoder(const std::string& wanted);
+
+// Throws RtspServerError for a mount path gst-rtsp-server would not serve as written.
+void check_rtsp_path(const std::string& path);
+
+class RtspServer {
+ public:
+  // Checks the plugins, binds and starts serving; throws RtspServerError with the reason
+  // (port in use, encoder missing, bad path or config).
+  explicit RtspServer(RtspServerConfig config);
+  ~RtspServer();
+  RtspServer(const RtspServer&) = delete;
+  RtspServer& operator=(const RtspServer&) = delete;
+  RtspServer(RtspServer&&) = delete;
+  RtspServer& operator=(RtspServer&&) = delete;
+
+  int port() const;                  // the bound port (the ephemeral one with port 0)
+  std::string url() const;           // "rtsp://127.0.0.1:8554/probeless"
+  std::string encoder_name() const;  // "x264enc" or "v4l2h264enc"
+
+  // Any thread; never blocks. The frame is referenced, not copied, until encoded.
+  // `capture_ns` is the frame's CLOCK_MONOTONIC capture time: it becomes the PTS.
+  void push(std::shared_ptr<const ImageRGB8> frame, TimestampNs capture_ns);
+
+  // Disconnects every client, stops the media and joins the thread. Idempotent.
+  void stop();
+
+  RtspServerStats stats() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace probeless
