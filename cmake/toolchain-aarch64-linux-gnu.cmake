@@ -11,9 +11,15 @@ set(CMAKE_LIBRARY_ARCHITECTURE aarch64-linux-gnu)
 set(CMAKE_C_COMPILER aarch64-linux-gnu-gcc)
 set(CMAKE_CXX_COMPILER aarch64-linux-gnu-g++)
 
-# pkg-config must read the arm64 .pc files only, never the host's.
-set(ENV{PKG_CONFIG_LIBDIR} /usr/lib/aarch64-linux-gnu/pkgconfig:/usr/share/pkgconfig)
-set(ENV{PKG_CONFIG_PATH} "")
+# pkg-config must read the arm64 .pc files only, never the host's. The first inclusion
+# decides: try_compile includes this file again in the same process (the environment is
+# shared) with its scratch directory as CMAKE_BINARY_DIR, which must not replace the
+# OpenEXR stand-in's place under the real build tree.
+if(NOT "$ENV{PKG_CONFIG_LIBDIR}" MATCHES "/arm64-openexr$")
+  set(ENV{PKG_CONFIG_LIBDIR} /usr/lib/aarch64-linux-gnu/pkgconfig:/usr/share/pkgconfig)
+  set(ENV{PKG_CONFIG_PATH} "")
+  include(${CMAKE_CURRENT_LIST_DIR}/arm64-openexr.cmake)
+endif()
 
 # Tests run under QEMU's user-mode emulator: ctest prefixes every test command with it, and
 # gtest_discover_tests lists the tests through it. libc6:arm64 (multiarch) puts the arm64

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The arm64 cross build and its tests under QEMU user mode (docs/boards.md), as one ctest:
 #   check_arm64.sh SOURCE_DIR BUILD_DIR
-# Configures BUILD_DIR with the arm64 preset's settings (core and kernels, cross compiled by
+# Configures BUILD_DIR with the arm64 preset (core, drivers and kernels, cross compiled by
 # crossbuild-essential-arm64 against multiarch arm64 libraries), builds it (ccache when
 # present) and runs its ctest, every test binary through qemu-aarch64-static.
 # Exit 77 (skip) when the toolchain, the arm64 libraries or QEMU are missing.
@@ -15,7 +15,8 @@ command -v aarch64-linux-gnu-g++ >/dev/null || skip "no aarch64-linux-gnu-g++ (c
 command -v qemu-aarch64-static >/dev/null || skip "no qemu-aarch64-static (qemu-user-static)"
 [[ -e /lib/ld-linux-aarch64.so.1 ]] || skip "no arm64 loader /lib/ld-linux-aarch64.so.1 (libc6:arm64 through multiarch)"
 for f in /usr/lib/aarch64-linux-gnu/libgtest.a /usr/lib/aarch64-linux-gnu/libOpenCL.so \
-  /usr/lib/aarch64-linux-gnu/cmake/tomlplusplus /usr/lib/aarch64-linux-gnu/libspdlog.so; do
+  /usr/lib/aarch64-linux-gnu/cmake/tomlplusplus /usr/lib/aarch64-linux-gnu/libspdlog.so \
+  /usr/lib/aarch64-linux-gnu/libgpiodcxx.so /usr/lib/aarch64-linux-gnu/libOpenEXR-3_1.so.30; do
   [[ -e $f ]] || skip "no $f: the arm64 libraries of scripts/packages.txt (':arm64') are not installed"
 done
 
