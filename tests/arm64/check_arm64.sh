@@ -27,8 +27,12 @@ fi
 # Hits across worktrees and build dirs need paths relative to a common base.
 export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$(dirname "$(cd "$src" && pwd)")}
 start=$(date +%s)
-# The preset names build/arm64; -B puts this copy beside the build tree that runs it, so
-# that two trees (release, asan) testing at once do not share one.
+# BUILD_DIR is the preset's own build/arm64, shared with `cmake --preset arm64` by hand:
+# ccache's hits need the same paths relative to the build directory, so a tree elsewhere
+# would compile everything again. Two test runs (release and asan trees) take turns.
+mkdir -p "$build"
+exec 9>"$build.lock"
+flock 9
 cmake --preset arm64 -S "$src" -B "$build" >"$build.configure.log" 2>&1 ||
   { cat "$build.configure.log"; exit 1; }
 configured=$(date +%s)
