@@ -12,8 +12,11 @@ install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.tmpfiles DESTINATION lib/t
         RENAME probeless.conf)
 install(FILES ${PROJECT_SOURCE_DIR}/systemd/60-probeless.rules DESTINATION lib/udev/rules.d)
 install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.toml DESTINATION /etc/probeless)
+# Board files (docs/boards.md): `board = "rpi5"` in the config finds them here
+# (app/pipeline/board_file.cpp looks in /usr/share/probeless/board).
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/board/ DESTINATION ${CMAKE_INSTALL_DATADIR}/probeless/board)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/docs/appliance.md
-              ${PROJECT_SOURCE_DIR}/docs/configuration.md
+              ${PROJECT_SOURCE_DIR}/docs/configuration.md ${PROJECT_SOURCE_DIR}/docs/boards.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 set(CPACK_GENERATOR DEB)

@@ -15,7 +15,10 @@ toml::table TomlReader::parse(std::string_view text) const {
 }
 
 void TomlReader::fail(const toml::node* node, const std::string& what) const {
-  throw ParseError(source_, node ? static_cast<int>(node->source().begin.line) : 0, what);
+  // A node parsed from another file (a board file merged under a config) names that file.
+  const auto& from = node ? node->source().path : nullptr;
+  throw ParseError(from ? *from : source_, node ? static_cast<int>(node->source().begin.line) : 0,
+                   what);
 }
 
 void TomlReader::only(const toml::table& table, std::string_view where,

@@ -23,6 +23,7 @@ namespace {
 
 struct DevicesOptions {
   std::string config_path;
+  std::string board;
   std::string cl_platform;
   std::string cl_device;
 };
@@ -44,8 +45,7 @@ std::string origin(const std::string& flag, const std::string& config, const cha
 
 void print_opencl(std::ostream& out, const DevicesOptions& opts) {
   out << "OpenCL\n";
-  ServiceConfig config;
-  if (!opts.config_path.empty()) config = load_service_config(opts.config_path);
+  ServiceConfig config = load_service_config(opts.config_path, opts.board);
   if (!opts.cl_platform.empty()) config.cl_platform = opts.cl_platform;
   if (!opts.cl_device.empty()) config.cl_device = opts.cl_device;
   const auto selector = DeviceSelector::resolve(config.cl_platform, config.cl_device);
@@ -191,6 +191,7 @@ void add_devices_command(CLI::App& app) {
   auto* cmd = app.add_subcommand("devices", "List the devices probeless can use");
   cmd->add_option("--config", opts->config_path, "Service config (TOML) whose selectors apply")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--board", opts->board, "Board file whose selectors apply (docs/boards.md)");
   cmd->add_option("--cl-platform", opts->cl_platform, "OpenCL platform substring to select");
   cmd->add_option("--cl-device", opts->cl_device, "OpenCL device substring to select");
   cmd->callback([opts] {

@@ -15,6 +15,7 @@ namespace {
 
 struct RunArgs {
   std::string config_path;
+  std::string board;
   std::string source;
   std::string out_dir;
   std::string occlusion;
@@ -32,8 +33,7 @@ std::string status_line(const nlohmann::json& s) {
 }
 
 void run(const RunArgs& args) {
-  ServiceConfig config =
-      args.config_path.empty() ? ServiceConfig{} : load_service_config(args.config_path);
+  ServiceConfig config = load_service_config(args.config_path, args.board);
   if (!args.source.empty()) config.source = args.source;
   if (!args.out_dir.empty()) config.output_dir = args.out_dir;
   if (!args.occlusion.empty()) config.occlusion_method = args.occlusion;
@@ -90,6 +90,8 @@ void add_run_command(CLI::App& app) {
       ->group("");
   cmd->add_option("--config", args->config_path, "TOML configuration (docs/configuration.md)")
       ->check(CLI::ExistingFile);
+  cmd->add_option("--board", args->board,
+                  "Board file under the config: name, directory or file (docs/boards.md)");
   cmd->add_option("--source", args->source, "Rig: sim[:options], replay:DIR, tum:DIR");
   cmd->add_option("--frames", args->frames, "Stop after N frames")->check(CLI::PositiveNumber);
   cmd->add_option("--out", args->out_dir, "Also write the composite frames to DIR");

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "app/outputs/display/display_mode.hpp"
+#include "app/pipeline/board_file.hpp"
 #include "core/error.hpp"
 #include "core/toml_reader.hpp"
 #include "drivers/sim/sim_rig.hpp"
@@ -67,13 +68,20 @@ std::vector<ObjectConfig> default_objects() {
   return {sphere, pawn};
 }
 
-ServiceConfig parse_service_config(std::string_view text, std::string_view source_name) {
-  const TomlReader r{std::string(source_name)};
-  const toml::table root = r.parse(text);
+namespace {
+
+ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) {
   ServiceConfig c;
   r.only(root, "the top level",
          {"source", "object", "ground", "occlusion", "http", "output", "opencl", "pipeline",
-          "bracket", "light", "display", "rtsp"});
+          "bracket", "light", "display", "rtsp", "board", "about"});
+  r.get(root, "board", c.board);
+  if (auto* t = r.optional_table(root, "about")) {
+    r.only(*t, "[about]", {"name", "summary"});
+    r.get(*t, "name", c.about_name);
+    std::string summary;
+    r.get(*t, "summary", summary);
+  }
   if (auto* t = r.optional_table(root, "source")) {
     r.only(*t, "[source]", {"rig"});
     r.get(*t, "rig", c.source);
@@ -234,18 +242,58 @@ ServiceConfig parse_service_config(std::string_view text, std::string_view sourc
   return c;
 }
 
-ServiceConfig load_service_config(const std::string& path) {
+// One file's table, its [[object]] model paths made absolute: they are relative to the
+// file that names them, which a board file merged under a config is not.
+toml::table read_config_table(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ParseError(path, 0, "cannot open the configuration file");
   std::stringstream ss;
   ss << in.rdbuf();
-  ServiceConfig c = parse_service_config(ss.str(), path);
-  // Model paths are relative to the file that names them.
+  toml::table root = TomlReader{path}.parse(ss.str());
   const auto dir = std::filesystem::path(path).parent_path();
-  for (auto& o : c.objects)
-    if (!o.model.empty() && std::filesystem::path(o.model).is_relative())
-      o.model = (dir / o.model).string();
-  return c;
+  if (toml::array* objects = root["object"].as_array())
+    for (auto& item : *objects)
+      if (toml::table* o = item.as_table())
+        if (auto model = (*o)["model"].value<std::string>();
+            model && !model->empty() && std::filesystem::path(*model).is_relative())
+          o->insert_or_assign("model", (dir / *model).string());
+  return root;
+}
+
+}  // namespace
+
+ServiceConfig parse_service_config(std::string_view text, std::string_view source_name) {
+  const TomlReader r{std::string(source_name)};
+  return parse_service_table(r, r.parse(text));
+}
+
+ServiceConfig load_service_config(const std::string& path, const std::string& board) {
+  toml::table root;
+  if (!path.empty()) root = read_config_table(path);
+  const TomlReader r{path.empty() ? std::string("--board") : path};
+  std::string board_ref = board;
+  std::filesystem::path relative_to = std::filesystem::current_path();
+  if (board_ref.empty() && root.get("board")) {
+    r.get(root, "board", board_ref);
+    relative_to = std::filesystem::path(path).parent_path();
+  }
+  if (!board_ref.empty()) {
+    std::filesystem::path board_path;
+    try {
+      board_path = find_board_file(board_ref, relative_to);
+    } catch (const std::runtime_error& e) {
+      r.fail(board.empty() ? root.get("board") : nullptr, e.what());
+    }
+    toml::table merged = read_config_table(board_path.string());
+    if (merged.get("board"))
+      TomlReader{board_path.string()}.fail(merged.get("board"),
+                                           "a board file cannot name another board");
+    root.erase("board");
+    merge_toml(merged, std::move(root));
+    root = std::move(merged);
+    root.insert_or_assign("board", board_path.string());
+  }
+  return parse_service_table(r, root);
 }
 
 }  // namespace probeless

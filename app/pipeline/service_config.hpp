@@ -43,6 +43,11 @@ struct GroundConfig {
 std::vector<ObjectConfig> default_objects();
 
 struct ServiceConfig {
+  // The board file under this config (docs/boards.md): as resolved by load_service_config
+  // (the reference as written when only parsed); and [about] name (a board file's own name).
+  std::string board;
+  std::string about_name;
+
   std::string source = "sim";  // drivers/rig_factory.hpp spec: sim[:opts], replay:DIR, tum:DIR
   std::vector<ObjectConfig> objects = default_objects();
   GroundConfig ground;
@@ -111,6 +116,10 @@ struct ServiceConfig {
 // included (a typo must not silently fall back to a default).
 ServiceConfig parse_service_config(std::string_view toml_text,
                                    std::string_view source_name = "config.toml");
-ServiceConfig load_service_config(const std::string& path);
+// Reads the file at `path` (empty: none) laid over the board file that `board` (else the
+// file's own `board = "..."`) names, key by key (docs/boards.md); with neither, the defaults.
+// A board named on the command line is looked up from the working directory, one named in a
+// file from that file's directory. Throws ParseError as above, naming whichever file is wrong.
+ServiceConfig load_service_config(const std::string& path, const std::string& board = {});
 
 }  // namespace probeless
