@@ -103,8 +103,7 @@ void print_gpio(std::ostream& out, const DevicesOptions& opts) {
     else
       out << fmt::format("  {} '{}': {} lines, {} in use\n", c.name, c.label, c.lines, c.used);
   }
-  ServiceConfig config;
-  if (!opts.config_path.empty()) config = load_service_config(opts.config_path);
+  const ServiceConfig config = load_service_config(opts.config_path, opts.board);
   const auto line = [](const std::string& chip, int n) {
     return chip.empty() ? std::string("none") : fmt::format("'{}' line {}", chip, n);
   };
@@ -117,8 +116,7 @@ void print_gpio(std::ostream& out, const DevicesOptions& opts) {
 void print_display(std::ostream& out, const DevicesOptions& opts) {
   using namespace display;
   out << "Display (DRM/KMS)\n";
-  ServiceConfig config;
-  if (!opts.config_path.empty()) config = load_service_config(opts.config_path);
+  const ServiceConfig config = load_service_config(opts.config_path, opts.board);
   const auto cards = list_displays();
   if (cards.empty()) out << "  no /dev/dri/card*: no KMS display driver is loaded\n";
   std::string chosen;
@@ -174,8 +172,7 @@ void print_display(std::ostream& out, const DevicesOptions& opts) {
 
 // The sensor vendors of the configured openni2: source, or the defaults.
 void print_rgbd(std::ostream& out, const DevicesOptions& opts) {
-  ServiceConfig config;
-  if (!opts.config_path.empty()) config = load_service_config(opts.config_path);
+  const ServiceConfig config = load_service_config(opts.config_path, opts.board);
   const std::string_view spec = config.source;
   const bool openni = spec.starts_with("openni2:");
   const auto end = spec.find('+');
