@@ -1,31 +1,26 @@
 #include "drivers/openni2/openni2_options.hpp"
 
-#include <charconv>
 #include <stdexcept>
 
+#include "drivers/spec_options.hpp"
 #include "drivers/usb/usb_hotplug.hpp"
 
 namespace probeless::openni2 {
 namespace {
 
+constexpr std::string_view kSource = "openni2";
+
 [[noreturn]] void bad(std::string_view key, std::string_view value, std::string_view expected) {
-  throw std::invalid_argument("openni2 option '" + std::string(key) + "': expected " +
-                              std::string(expected) + ", got '" + std::string(value) + "'");
+  bad_spec_option(kSource, key, value, expected);
 }
 
 template <typename T>
 T number(std::string_view key, std::string_view value, T lo, T hi, std::string_view expected) {
-  T out{};
-  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), out);
-  if (ec != std::errc() || end != value.data() + value.size() || out < lo || out > hi)
-    bad(key, value, expected);
-  return out;
+  return spec_number(kSource, key, value, lo, hi, expected);
 }
 
 bool flag(std::string_view key, std::string_view value) {
-  if (value == "1") return true;
-  if (value == "0") return false;
-  bad(key, value, "0 or 1");
+  return spec_flag(kSource, key, value);
 }
 
 }  // namespace
@@ -34,19 +29,10 @@ Openni2Options parse_openni2_options(std::string_view spec) {
   Openni2Options o;
   o.usb_vendors = usb::default_sensor_vendors();
   // The options follow the last '?', as for v4l2: and replay: (URIs and paths have none).
-  const std::size_t q = spec.rfind('?');
-  o.uri = std::string(spec.substr(0, q));
-  const std::string_view opts = q == std::string_view::npos ? "" : spec.substr(q + 1);
+  const auto [base, opts] = split_spec(spec);
+  o.uri = std::string(base);
   bool file_option = false;
-  std::size_t pos = 0;
-  while (pos < opts.size()) {
-    const std::size_t end = std::min(opts.find_first_of(",&", pos), opts.size());
-    const std::string_view item = opts.substr(pos, end - pos);
-    pos = end + 1;
-    if (item.empty()) continue;
-    const std::size_t eq = item.find('=');
-    const std::string_view key = item.substr(0, eq);
-    const std::string_view value = eq == std::string_view::npos ? "" : item.substr(eq + 1);
+  for (const auto& [key, value] : spec_options(opts)) {
     if (key == "size") {
       const std::size_t x = value.find('x');
       if (x == std::string_view::npos) bad(key, value, "WIDTHxHEIGHT");

@@ -1,23 +1,21 @@
 #include "drivers/v4l2/v4l2_options.hpp"
 
-#include <charconv>
 #include <stdexcept>
+
+#include "drivers/spec_options.hpp"
 
 namespace probeless::v4l2 {
 namespace {
 
+constexpr std::string_view kSource = "v4l2";
+
 [[noreturn]] void bad(std::string_view key, std::string_view value, std::string_view expected) {
-  throw std::invalid_argument("v4l2 option '" + std::string(key) + "': expected " +
-                              std::string(expected) + ", got '" + std::string(value) + "'");
+  bad_spec_option(kSource, key, value, expected);
 }
 
 template <typename T>
 T number(std::string_view key, std::string_view value, T lo, T hi, std::string_view expected) {
-  T out{};
-  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), out);
-  if (ec != std::errc() || end != value.data() + value.size() || out < lo || out > hi)
-    bad(key, value, expected);
-  return out;
+  return spec_number(kSource, key, value, lo, hi, expected);
 }
 
 }  // namespace
@@ -25,20 +23,11 @@ T number(std::string_view key, std::string_view value, T lo, T hi, std::string_v
 V4l2Options parse_v4l2_options(std::string_view spec) {
   V4l2Options o;
   // The options follow the last '?', as for replay: and tum: (a device path has none).
-  const std::size_t q = spec.rfind('?');
-  o.device = std::string(spec.substr(0, q));
+  const auto [base, opts] = split_spec(spec);
+  o.device = std::string(base);
   if (o.device.empty())
     throw std::invalid_argument("source 'v4l2:' needs a device (v4l2:/dev/video0 or v4l2:CARD)");
-  const std::string_view opts = q == std::string_view::npos ? "" : spec.substr(q + 1);
-  std::size_t pos = 0;
-  while (pos < opts.size()) {
-    const std::size_t end = std::min(opts.find_first_of(",&", pos), opts.size());
-    const std::string_view item = opts.substr(pos, end - pos);
-    pos = end + 1;
-    if (item.empty()) continue;
-    const std::size_t eq = item.find('=');
-    const std::string_view key = item.substr(0, eq);
-    const std::string_view value = eq == std::string_view::npos ? "" : item.substr(eq + 1);
+  for (const auto& [key, value] : spec_options(opts)) {
     if (key == "size") {
       const std::size_t x = value.find('x');
       if (x == std::string_view::npos) bad(key, value, "WIDTHxHEIGHT");
