@@ -2,9 +2,7 @@
 
 #include <EGL/eglext.h>
 #include <GLES3/gl3.h>
-#include <dlfcn.h>
 #include <fmt/format.h>
-#include <link.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -14,6 +12,8 @@
 #include <mutex>
 #include <optional>
 #include <string_view>
+
+#include "drivers/platform/resident_libraries.hpp"
 
 namespace probeless::render {
 namespace {
@@ -55,30 +55,15 @@ void release_display(EGLDisplay d) {
 
 // Mesa's gallium driver keeps process-lifetime state in its own globals and never frees it
 // (util_cpu_detect's L3 affinity masks, the 10 MB executable heap of rtasm), yet the last
-// eglTerminate() dlclose()s the driver. The state is then stranded: LeakSanitizer reports it
-// from "<unknown module>" (nothing can symbolize or suppress it), and the next eglInitialize
-// (another renderer, the next test) loads a fresh copy and strands it again. So the driver an
-// initialise loaded stays resident until exit, as its globals assume: dlopen(RTLD_NOLOAD |
-// RTLD_NODELETE) on an already loaded object only marks it never to be unloaded. Mesa names
-// the driver <name>_dri.so (up to 24.x; from 24.1 the code lives in libgallium-<version>.so,
-// which a pinned *_dri.so keeps loaded too). Other vendors' EGL stacks match nothing here.
+// eglTerminate() dlclose()s the driver (drivers/platform/resident_libraries.hpp has the
+// consequences). Mesa names the driver <name>_dri.so (up to 24.x; from 24.1 the code lives in
+// libgallium-<version>.so, which a pinned *_dri.so keeps loaded too). Other vendors' EGL
+// stacks match nothing here.
 void keep_gl_drivers_loaded() {
-  std::vector<std::string> drivers;
-  // Only collect in the callback: dl_iterate_phdr holds the loader's lock.
-  ::dl_iterate_phdr(
-      [](dl_phdr_info* info, std::size_t, void* data) {
-        const std::string_view path = info->dlpi_name != nullptr ? info->dlpi_name : "";
-        const std::string_view file = path.substr(path.rfind('/') + 1);
-        if (file.ends_with("_dri.so") || file.starts_with("libgallium"))
-          static_cast<std::vector<std::string>*>(data)->emplace_back(path);
-        return 0;
-      },
-      &drivers);
-  for (const auto& path : drivers) {
-    // The handle only counts one more reference; closing it leaves the NODELETE mark.
-    if (void* handle = ::dlopen(path.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE))
-      ::dlclose(handle);
-  }
+  platform::keep_loaded_until_exit([](std::string_view path) {
+    const std::string_view file = platform::file_name(path);
+    return file.ends_with("_dri.so") || file.starts_with("libgallium");
+  });
 }
 
 PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display_fn() {

@@ -4,6 +4,8 @@
 
 #include <mutex>
 
+#include "drivers/platform/resident_libraries.hpp"
+
 namespace probeless::openni2 {
 namespace {
 
@@ -40,6 +42,13 @@ OpenniRuntime::OpenniRuntime() {
         "/etc/openni2/OpenNI.ini): " +
         openni_error_text());
   }
+  // OpenNI dlcloses its device drivers (OpenNI2/Drivers/lib*.so) in shutdown(); their globals
+  // outlive it (see resident_libraries.hpp), and the next initialise would load fresh copies.
+  // The drivers are whatever OpenNI found in its repository directory (OpenNI.ini), by default
+  // OpenNI2/Drivers beside libOpenNI2.
+  platform::keep_loaded_until_exit([](std::string_view path) {
+    return path.find("/OpenNI2/Drivers/") != std::string_view::npos;
+  });
 }
 
 OpenniRuntime::~OpenniRuntime() {
