@@ -47,7 +47,8 @@ void run(Options& o) {
       "  ground shadow ({} px): relative error {:.4f}; mean change captured {:.4f}, truth {:.4f}\n",
       r.shadow_pixels, r.shadow_rel_error, r.shadow_mean_captured, r.shadow_mean_truth);
   std::cout << fmt::format(
-      "  chrome sphere ({} px): relative RMSE {:.4f}{}\n", r.sphere_pixels, r.sphere_rel_rmse,
+      "  chrome sphere ({} px): relative RMSE {:.4f} (upper half {:.4f}, lower {:.4f}){}\n",
+      r.sphere_pixels, r.sphere_rel_rmse, r.sphere_rel_rmse_upper, r.sphere_rel_rmse_lower,
       o.eval.dump_dir.empty() ? "" : " (" + o.eval.dump_dir + "/chrome_sphere.png)");
   std::cout << fmt::format(
       "  lamp switch at t = {:.1f} s (truth x {:.3f}): objects within 10 % of the truth after "
@@ -68,6 +69,8 @@ void run(Options& o) {
         {"object_rel_error", r.object_rel_error},
         {"shadow_rel_error", r.shadow_rel_error},
         {"sphere_rel_rmse", r.sphere_rel_rmse},
+        {"sphere_rel_rmse_upper", r.sphere_rel_rmse_upper},
+        {"sphere_rel_rmse_lower", r.sphere_rel_rmse_lower},
         {"lamp_response_s",
          r.lamp_response_s ? nlohmann::json(*r.lamp_response_s) : nlohmann::json()},
         {"object_pixels", r.object_pixels},

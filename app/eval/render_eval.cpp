@@ -325,6 +325,11 @@ RenderEvalReport evaluate_render_sim(const RenderEvalOptions& o) {
       report.sphere_pixels += in ? 1 : 0;
     }
   report.sphere_rel_rmse = relative_rgb_error(ball_cap, ball_tru, ball_mask);
+  std::vector<bool> upper = ball_mask, lower = ball_mask;
+  for (std::size_t i = 0; i < ball_mask.size(); ++i)
+    (i < ball_mask.size() / 2 ? lower : upper)[i] = false;
+  report.sphere_rel_rmse_upper = relative_rgb_error(ball_cap, ball_tru, upper);
+  report.sphere_rel_rmse_lower = relative_rgb_error(ball_cap, ball_tru, lower);
 
   if (!o.dump_dir.empty()) {
     write_panels(o.dump_dir + "/chrome_sphere.png", ball_cap, ball_tru, ball_mask, true);

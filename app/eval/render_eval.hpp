@@ -51,6 +51,9 @@ struct RenderEvalReport {
   int shadow_pixels = 0;
   double shadow_mean_captured = 0, shadow_mean_truth = 0;  // mean change (luminance)
   double sphere_rel_rmse = 0;                              // the chrome sphere, over its pixels
+  // The same over the sphere image's upper and lower halves (each relative to its own truth):
+  // roughly what lies above and below the light point's horizon.
+  double sphere_rel_rmse_upper = 0, sphere_rel_rmse_lower = 0;
   int sphere_pixels = 0;
   // Lamp switch: world time of the switch, the samples around it, and the time from the
   // switch to the first snapshot from which on every snapshot is within 10 % of the truth;

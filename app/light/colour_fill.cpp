@@ -16,6 +16,7 @@ struct Sample {
   int face, x, y;
   float distance;
   std::array<float, 3> radiance;
+  bool clipped;  // a channel at the colour camera's top: the radiance is only a lower bound
 };
 
 // One level of 2^k x 2^k texel blocks: per block the nearest sample's distance, then the
@@ -23,7 +24,7 @@ struct Sample {
 struct Level {
   int n = 0, shift = 0;
   std::vector<float> nearest;
-  std::vector<std::array<double, 4>> sums;
+  std::vector<std::array<double, 5>> sums;  // r, g, b and count of unclipped; clipped count
   Level(int face, int k)
       : n(face >> k),
         shift(k),
@@ -58,8 +59,6 @@ ColourFillStats fill_from_colour(envmap::ImageRGBAF& texels, const Eigen::Vector
       const std::uint16_t z_mm = frame.depth.at(u, v, 0);
       if (z_mm == 0) continue;
       const std::uint8_t* c = &frame.color.at(u, v, 0);
-      if (c[0] >= p.colour_saturated || c[1] >= p.colour_saturated || c[2] >= p.colour_saturated)
-        continue;
       const double z = z_mm * 1e-3;
       const Eigen::Vector3d X((u - k.cx) / k.fx * z, (v - k.cy) / k.fy * z, z);
       const Eigen::Vector3f d = (origin + R * X).cast<float>();
@@ -71,9 +70,11 @@ ColourFillStats fill_from_colour(envmap::ImageRGBAF& texels, const Eigen::Vector
       s.y = std::clamp(static_cast<int>(cc.v * static_cast<float>(n)), 0, n - 1);
       s.distance = d.norm();
       for (int ch = 0; ch < 3; ++ch) s.radiance[ch] = linear[c[ch]] * static_cast<float>(e[ch]);
+      s.clipped =
+          c[0] >= p.colour_saturated || c[1] >= p.colour_saturated || c[2] >= p.colour_saturated;
       samples.push_back(s);
     }
-  stats.samples = static_cast<int>(samples.size());
+  for (const Sample& s : samples) ++(s.clipped ? stats.clipped : stats.samples);
 
   // Per level, only the samples on the nearest surface of each block count: the colour
   // camera sees past the table's edge to the floor, which the environment's position does
@@ -90,6 +91,10 @@ ColourFillStats fill_from_colour(envmap::ImageRGBAF& texels, const Eigen::Vector
     for (const Sample& s : samples) {
       const std::size_t i = level.index(s.face, s.x, s.y);
       if (s.distance > p.surface_ratio * level.nearest[i]) continue;
+      if (s.clipped) {
+        level.sums[i][4] += 1;
+        continue;
+      }
       for (int ch = 0; ch < 3; ++ch) level.sums[i][ch] += s.radiance[ch];
       level.sums[i][3] += 1;
     }
@@ -106,12 +111,20 @@ ColourFillStats fill_from_colour(envmap::ImageRGBAF& texels, const Eigen::Vector
                                (static_cast<float>(y) + 0.5f) / static_cast<float>(n))
                                    .z() < 0.0f;
         if (t[3] > 0 && !below) continue;  // the fisheye's value stays
-        const std::array<double, 4>* cell = nullptr;
-        for (std::size_t lv = 0; lv < levels.size() && !cell; ++lv) {
+        const std::array<double, 5>* cell = nullptr;
+        // Above the horizon only near samples: a coarse block there mixes the wall around
+        // an unobserved texel (ColourFillParams::levels_above_horizon).
+        const std::size_t top =
+            below ? levels.size()
+                  : std::min(levels.size(), static_cast<std::size_t>(p.levels_above_horizon));
+        for (std::size_t lv = 0; lv < top && !cell; ++lv) {
           const auto& c = levels[lv].sums[levels[lv].index(face, x, y)];
-          if (c[3] > 0) cell = &c;
+          if (c[3] + c[4] > 0) cell = &c;
         }
-        if (!cell) continue;
+        // Where the colour camera clipped (a window, a lamp), its samples only bound the
+        // radiance from below, and the unclipped ones beside them are the darker frame: the
+        // fisheye's bracketed value stays.
+        if (!cell || (*cell)[4] > 0) continue;
         for (int ch = 0; ch < 3; ++ch) t[ch] = static_cast<float>((*cell)[ch] / (*cell)[3]);
         t[3] = p.filled_alpha;
         ++stats.filled_texels;

@@ -3,17 +3,13 @@
 // "Below the horizon"). An environment seen from a point just above a table is half table,
 // and the fisheye's 190 degrees barely reach below its own horizon: the keyframe's lower
 // hemisphere is push-pull filled from the walls, so a mirror's lower half reflects wall
-// colour where it should show the table (measured by `eval render`: chrome-sphere relative
-// RMSE 0.26 without this). The RGB-D camera sees that table. Each colour pixel with depth is
-// a world point; its direction from the environment's position picks a texel, and its linear
-// colour times the colour camera's exposure e (kernels/hdr/colour_exposure.hpp) is radiance
-// in the fisheye's units. Texels the fisheye observed above the horizon keep their value. Beyond
-// the thesis, which lit from the fisheye alone (thesis ch. 5).
-//
-// EXPERIMENTAL, off by default ([light] colour_fill): on the sim it made the chrome sphere
-// worse, relative RMSE 0.26 -> 0.48 (`eval render`, 2026-11-23), although the table does
-// appear below the horizon; why is not yet understood (docs/light-capture.md "Below the
-// horizon").
+// colour where it should show the table. The RGB-D camera sees that table. Each colour pixel
+// with depth is a world point; its direction from the environment's position picks a texel, and
+// its linear colour times the colour camera's exposure e (kernels/hdr/colour_exposure.hpp) is
+// radiance in the fisheye's units. Texels the fisheye observed above the horizon keep their
+// value. Beyond the thesis, which lit from the fisheye alone (thesis ch. 5). Measured with
+// `eval render` (2026-11-24): the chrome sphere's lower half 0.53 -> 0.25 relative RMSE, the
+// whole sphere 0.256 -> 0.249 (docs/light-capture.md "Below the horizon").
 #include <Eigen/Core>
 
 #include "core/camera/pinhole.hpp"
@@ -30,11 +26,18 @@ struct ColourFillParams {
   // of table each, the colour camera's samples there ~7 x 28 mm apart (stride 2 at 1.7 m,
   // seen at a grazing 13 degrees), so whole blocks of texels see no sample.
   int max_level = 6;
+  // Above the horizon a texel the fisheye did not observe takes only samples of its own block
+  // at levels < this: measured with `eval render` (2026-11-24), the coarse blocks filled the
+  // band of bright window just above the object's horizon (radiance ~10^4) with the wall
+  // around it (~10^2): chrome sphere 0.25 -> 0.48. With 1, 2 or 3: 0.249; 0: 0.249.
+  int levels_above_horizon = 1;
   // Samples farther than this times the nearest one of their block are occluded there.
   float surface_ratio = 1.15f;
-  double gamma = 2.2;          // the colour camera's encoding, as ColourExposureParams
-  int colour_saturated = 250;  // 8-bit: any channel >= this: clipped, not used
-  float filled_alpha = 0.5f;   // alpha of a texel filled here (observed 1, push-pull 0)
+  double gamma = 2.2;  // the colour camera's encoding, as ColourExposureParams
+  // 8-bit: any channel >= this: clipped, a lower bound only; a block holding such a sample
+  // keeps the fisheye's (bracketed) value rather than the mean of the darker samples beside it.
+  int colour_saturated = 250;
+  float filled_alpha = 0.5f;  // alpha of a texel filled here (observed 1, push-pull 0)
   // Below the horizon of `where` the colour camera's value replaces the fisheye's too: the
   // fisheye sees there only at the edge of its circle, and its reprojection through a room box
   // puts those samples on the floor, where from just above a table the table is (measured
@@ -44,6 +47,7 @@ struct ColourFillParams {
 
 struct ColourFillStats {
   int samples = 0;        // colour pixels with depth that were splatted
+  int clipped = 0;        // of those with depth, clipped ones: they only keep the fisheye's value
   int filled_texels = 0;  // texels given colour-camera radiance
 };
 

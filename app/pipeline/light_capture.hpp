@@ -8,6 +8,7 @@
 // the world origin (docs/configuration.md, "Where the rig pose comes from").
 #include <condition_variable>
 #include <deque>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,10 @@
 #include "core/frame.hpp"
 #include "core/sh.hpp"
 #include "kernels/envmap/envmap_types.hpp"
+
+namespace probeless::envmap {
+struct Keyframe;
+}
 
 namespace probeless {
 
@@ -81,6 +86,7 @@ class LightCapture {
   void fail(const std::string& what);
   void update_colour_exposure(const FisheyeFrame& frame);
   void publish(const FisheyeFrame& frame);
+  int fill_from_other_keyframes(envmap::ImageRGBAF& texels, const envmap::Keyframe& nearest);
 
   ServiceConfig config_;
   RigCalibration calibration_;
@@ -100,6 +106,14 @@ class LightCapture {
   Eigen::Vector3d anchor_ = Eigen::Vector3d::Zero();       // the objects' mean position
   Eigen::Vector3d light_point_ = Eigen::Vector3d::Zero();  // 10 cm above it
   std::optional<envmap::RoomBox> room_;                    // [light] room
+  // The other keyframes reprojected to the light point, by id, with their update count when
+  // reprojected: only the active keyframe changes, so the others are reprojected once.
+  struct Reprojected {
+    std::uint64_t updates = 0;
+    envmap::ImageRGBAF texels;
+  };
+  std::map<int, Reprojected> reprojected_;
+  int keyframe_filled_texels_ = 0;
   bool want_rgbd_ = true;
   std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took
   // The colour frame the exposure was last estimated on: what fills the snapshot below the

@@ -66,4 +66,29 @@ ImageRGBAF reproject_keyframe(const ImageRGBAF& texels, const Eigen::Vector3d& k
   return out;
 }
 
+int fill_unobserved(ImageRGBAF& target, const std::vector<const ImageRGBAF*>& others) {
+  for (const ImageRGBAF* o : others)
+    if (o->width() != target.width() || o->height() != target.height())
+      throw std::invalid_argument("fill_unobserved: the environments' sizes differ");
+  int filled = 0;
+  for (int y = 0; y < target.height(); ++y)
+    for (int x = 0; x < target.width(); ++x) {
+      float* t = &target.at(x, y, 0);
+      if (t[3] > 0.0F) continue;
+      float sum[3] = {0, 0, 0};
+      int count = 0;
+      for (const ImageRGBAF* o : others) {
+        const float* s = &o->at(x, y, 0);
+        if (!(s[3] > 0.0F)) continue;
+        for (int c = 0; c < 3; ++c) sum[c] += s[c];
+        ++count;
+      }
+      if (count == 0) continue;
+      for (int c = 0; c < 3; ++c) t[c] = sum[c] / static_cast<float>(count);
+      t[3] = 1.0F;
+      ++filled;
+    }
+  return filled;
+}
+
 }  // namespace probeless::envmap

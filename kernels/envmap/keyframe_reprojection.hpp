@@ -7,6 +7,7 @@
 // (2 x 2 samples per 32 px texel) to 3 ms (4 x 4) on PoCL, the table nothing.
 #include <Eigen/Core>
 #include <optional>
+#include <vector>
 
 #include "kernels/envmap/envmap_types.hpp"
 
@@ -30,5 +31,14 @@ ParallaxConstants reprojection_constants(const std::optional<RoomBox>& room,
 ImageRGBAF reproject_keyframe(const ImageRGBAF& texels, const Eigen::Vector3d& keyframe_position,
                               const std::optional<RoomBox>& room, const Eigen::Vector3d& target,
                               int m, int samples);
+
+// Texels of `target` with alpha 0 (the keyframe it came from never observed them from the
+// target's position) take the mean of those `others` (same size, reprojected to the same
+// position) that observed them (alpha 1), and alpha 1. A keyframe at the fisheye's height sees
+// a wall only down to a few degrees below its horizon, so from an object lower down a band of
+// wall just above the object's horizon is unobserved in the nearest keyframe, but observed in
+// keyframes farther from that wall (docs/light-capture.md "Parallax"). Returns the texels
+// filled. Throws std::invalid_argument when sizes differ.
+int fill_unobserved(ImageRGBAF& target, const std::vector<const ImageRGBAF*>& others);
 
 }  // namespace probeless::envmap

@@ -8,7 +8,8 @@ namespace {
 
 // Issue #6's lamp bar: after the sim's lamp switch the diffuse objects lit by the captured
 // light are within 10 % of the truth within 0.5 s; before it they match too. The chrome sphere
-// is held to what it measures today (0.26; the bar of 0.10 is not met, docs/performance.md),
+// is held near what it measures today (0.24 at this 1.5 s orbit; the bar of 0.10 is not met,
+// docs/light-capture.md), its lower half to the colour camera's fill (0.25; 0.53 without it),
 // so a regression shows.
 TEST(EvalRender, ObjectsFollowTheLampSwitch) {
   RenderEvalOptions o;
@@ -30,7 +31,8 @@ TEST(EvalRender, ObjectsFollowTheLampSwitch) {
   EXPECT_LT(r.shadow_rel_error, 0.15);
   EXPECT_LT(r.object_rel_error, 0.40);
   EXPECT_GT(r.sphere_pixels, 30000);
-  EXPECT_LT(r.sphere_rel_rmse, 0.35);
+  EXPECT_LT(r.sphere_rel_rmse, 0.30);
+  EXPECT_LT(r.sphere_rel_rmse_lower, 0.35) << "the table below the horizon";
 }
 
 TEST(EvalRender, RejectsWhatItCannotCompare) {

@@ -92,3 +92,32 @@ TEST(KeyframeReprojection, ShowsTheRoomFromTheTarget) {
 
 }  // namespace
 }  // namespace probeless::envmap
+
+namespace probeless::envmap {
+namespace {
+
+// Only unobserved texels are filled, from the others that observed them, by their mean.
+TEST(FillUnobserved, TakesTheMeanOfTheKeyframesThatObservedATexel) {
+  ImageRGBAF target = make_texels(4), a = make_texels(4), b = make_texels(4);
+  auto set = [](ImageRGBAF& t, int x, int y, float v, float alpha) {
+    for (int c = 0; c < 3; ++c) t.at(x, y, c) = v;
+    t.at(x, y, 3) = alpha;
+  };
+  set(target, 0, 0, 9, 1);  // observed: stays
+  set(a, 0, 0, 1, 1);
+  set(a, 1, 0, 2, 1);  // both observed (1, 0): the mean
+  set(b, 1, 0, 4, 1);
+  set(b, 2, 0, 6, 0);  // nobody observed (2, 0): unchanged
+  set(target, 2, 0, 3, 0);
+  EXPECT_EQ(fill_unobserved(target, {&a, &b}), 1);
+  EXPECT_EQ(target.at(0, 0, 0), 9);
+  EXPECT_FLOAT_EQ(target.at(1, 0, 1), 3);
+  EXPECT_EQ(target.at(1, 0, 3), 1);
+  EXPECT_EQ(target.at(2, 0, 0), 3);
+  EXPECT_EQ(target.at(2, 0, 3), 0);
+  ImageRGBAF other_size = make_texels(8);
+  EXPECT_THROW(fill_unobserved(target, {&other_size}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace probeless::envmap

@@ -66,14 +66,21 @@ TEST(ColourFill, UnobservedTexelsBelowTakeTheFloorsRadiance) {
   EXPECT_EQ(up[3], 0);
 }
 
-// Clipped colour says nothing of the radiance, a pixel without depth has no point.
+// Clipped colour only bounds the radiance from below: where it is, the fisheye's value stays
+// (below the horizon too) and nothing is filled. A pixel without depth has no point.
 TEST(ColourFill, SaturatedAndDepthlessPixelsAreSkipped) {
   FloorView view(255);
   envmap::ImageRGBAF texels = envmap::make_texels(16);
-  EXPECT_EQ(fill_from_colour(texels, Eigen::Vector3d(0, 0, 0.1), view.frame, view.k,
-                             view.T_world_camera, Eigen::Vector3d::Ones())
-                .samples,
-            0);
+  float* below = texel_towards(texels, {0.1f, 0.1f, -1});
+  below[0] = below[1] = below[2] = 5000;
+  below[3] = 1;
+  const ColourFillStats s = fill_from_colour(texels, Eigen::Vector3d(0, 0, 0.1), view.frame, view.k,
+                                             view.T_world_camera, Eigen::Vector3d::Ones());
+  EXPECT_EQ(s.samples, 0);
+  EXPECT_EQ(s.clipped, 320 * 240);
+  EXPECT_EQ(s.filled_texels, 0);
+  EXPECT_EQ(below[0], 5000) << "a clipped view does not replace the fisheye's bright texel";
+  EXPECT_EQ(below[3], 1);
   FloorView dark(10);
   for (int y = 0; y < dark.k.height; ++y)
     for (int x = 0; x < dark.k.width; ++x) dark.frame.depth.at(x, y, 0) = 0;
@@ -81,6 +88,26 @@ TEST(ColourFill, SaturatedAndDepthlessPixelsAreSkipped) {
                              dark.T_world_camera, Eigen::Vector3d::Ones())
                 .filled_texels,
             0);
+}
+
+// Above the horizon only a texel's own samples fill it: the floor seen from below covers the
+// zenith, and the coarse blocks that fill the gaps below the horizon would otherwise paint
+// the whole upper face with it (on the sim: a bright window painted as wall).
+TEST(ColourFill, AboveTheHorizonOnlyNearSamplesFill) {
+  FloorView view(128);
+  const Eigen::Vector3d under_the_floor(0, 0, -0.5);
+  const Eigen::Vector3f oblique(1, 0, 0.3f);  // 73 deg from the zenith: no floor sample there
+  envmap::ImageRGBAF texels = envmap::make_texels(32);
+  fill_from_colour(texels, under_the_floor, view.frame, view.k, view.T_world_camera,
+                   Eigen::Vector3d::Ones());
+  EXPECT_GT(texel_towards(texels, {0, 0, 1})[3], 0) << "the zenith has samples";
+  EXPECT_EQ(texel_towards(texels, oblique)[3], 0);
+  ColourFillParams coarse;
+  coarse.levels_above_horizon = coarse.max_level + 1;
+  envmap::ImageRGBAF filled = envmap::make_texels(32);
+  fill_from_colour(filled, under_the_floor, view.frame, view.k, view.T_world_camera,
+                   Eigen::Vector3d::Ones(), coarse);
+  EXPECT_GT(texel_towards(filled, oblique)[3], 0) << "the control: coarse blocks reach it";
 }
 
 TEST(ColourFill, RejectsAFrameOfAnotherSize) {
