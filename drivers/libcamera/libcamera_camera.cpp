@@ -3,9 +3,13 @@
 #include <fmt/format.h>
 #include <libcamera/libcamera.h>
 #include <sys/mman.h>
+#include <sys/sysmacros.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
 
 #include "drivers/libcamera/libcamera_format_map.hpp"
 
@@ -20,6 +24,31 @@ struct LibcameraCamera::Mapping {
 };
 
 namespace {
+
+// Cameras whose device vanished without a hotplug disconnect, kept alive on purpose (see
+// LibcameraCamera::abandon); libcamera 0.0.3 keeps listing them.
+struct Abandoned {
+  std::shared_ptr<lc::Camera> camera;
+  std::unique_ptr<lc::FrameBufferAllocator> allocator;
+  std::vector<std::unique_ptr<lc::Request>> requests;
+};
+std::mutex abandoned_mutex;
+std::vector<Abandoned>& abandoned() {
+  static auto* list = new std::vector<Abandoned>;  // never destroyed: libcamera points into it
+  return *list;
+}
+bool is_abandoned(const lc::Camera* camera) {
+  std::lock_guard lock(abandoned_mutex);
+  return std::any_of(abandoned().begin(), abandoned().end(),
+                     [&](const Abandoned& a) { return a.camera.get() == camera; });
+}
+
+std::string read_line(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
 
 bool offers(const lc::Camera& camera, const lc::ControlId& id) {
   return camera.controls().find(&id) != camera.controls().end();
@@ -85,6 +114,13 @@ LibcameraCamera::LibcameraCamera(std::shared_ptr<lc::CameraManager> manager,
                                     camera_ids(*manager_)));
   }
   info_.camera_id = camera_->id();
+  if (is_abandoned(camera_.get())) {
+    camera_.reset();
+    throw DeviceError(
+        fmt::format("libcamera camera '{}' is gone (its device nodes vanished; "
+                    "libcamera 0.0.3 lists it until the process restarts)",
+                    info_.camera_id));
+  }
   camera_->disconnected.connect(this, &LibcameraCamera::on_disconnected);
   camera_->requestCompleted.connect(this, &LibcameraCamera::on_request_completed);
   try {
@@ -94,6 +130,7 @@ LibcameraCamera::LibcameraCamera(std::shared_ptr<lc::CameraManager> manager,
                       "by another process?)",
                       info_.camera_id, ret));
     acquired_ = true;
+    find_video_nodes();
 
     const Choice choice = choose_format(*camera_, o);
     auto config = camera_->generateConfiguration({choice.role});
@@ -171,6 +208,7 @@ LibcameraCamera::~LibcameraCamera() {
 
 void LibcameraCamera::teardown() {
   if (!camera_) return;
+  if (nodes_vanished_) return abandon();
   if (started_) camera_->stop();  // completes what is in flight as cancelled
   started_ = false;
   camera_->requestCompleted.disconnect(this);
@@ -188,6 +226,40 @@ void LibcameraCamera::teardown() {
   if (acquired_) camera_->release();
   acquired_ = false;
   camera_.reset();
+}
+
+void LibcameraCamera::find_video_nodes() {
+  // The capture nodes libcamera maps to this camera (CameraManager::get(dev_t)), to notice
+  // them vanish: 0.0.3 emits Camera::disconnected only for pipelines with hotplug (UVC), not
+  // for vimc or CSI pipelines whose driver is unbound or removed.
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator("/sys/class/video4linux", ec)) {
+    const std::string dev = read_line(entry.path() / "dev");
+    unsigned major = 0, minor = 0;
+    if (std::sscanf(dev.c_str(), "%u:%u", &major, &minor) != 2) continue;
+    if (manager_->get(makedev(major, minor)) == camera_)
+      video_nodes_.push_back({entry.path() / "dev", dev});
+  }
+}
+
+bool LibcameraCamera::video_nodes_gone() const {
+  return std::any_of(video_nodes_.begin(), video_nodes_.end(),
+                     [](const VideoNode& n) { return read_line(n.sysfs_dev) != n.dev; });
+}
+
+void LibcameraCamera::abandon() {
+  // libcamera 0.0.3 cannot stop a camera whose nodes vanished without a disconnect:
+  // Camera::stop() fails STREAMOFF, keeps the requests queued and aborts the process on
+  // PipelineHandler::stop's assertion, and release() refuses a running camera. The pipeline
+  // still points at our requests, so they, the buffers and the camera stay alive (a few
+  // frame buffers per unplug), and this camera id is "gone" until the process restarts.
+  camera_->requestCompleted.disconnect(this);
+  camera_->disconnected.disconnect(this);
+  for (Mapping& m : mappings_)
+    if (m.base != MAP_FAILED) munmap(m.base, m.length);
+  mappings_.clear();
+  std::lock_guard lock(abandoned_mutex);
+  abandoned().push_back({std::move(camera_), std::move(allocator_), std::move(requests_)});
 }
 
 void LibcameraCamera::on_request_completed(lc::Request* request) {
@@ -242,7 +314,15 @@ bool LibcameraCamera::next_frame(std::chrono::milliseconds timeout, const Exposu
     wake_.wait_for(lock, timeout, [&] { return !completed_.empty() || disconnected_.load(); });
     if (disconnected_)
       throw DeviceError(fmt::format("libcamera camera '{}' disconnected", info_.camera_id));
-    if (completed_.empty()) return false;
+    if (completed_.empty()) {
+      lock.unlock();
+      if (video_nodes_gone()) {
+        nodes_vanished_ = true;
+        throw DeviceError(fmt::format("libcamera camera '{}' is gone: its video nodes vanished",
+                                      info_.camera_id));
+      }
+      return false;
+    }
     request = completed_.front();
     completed_.pop_front();
   }

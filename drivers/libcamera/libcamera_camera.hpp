@@ -77,21 +77,25 @@ class LibcameraCamera {
   LibcameraCamera& operator=(const LibcameraCamera&) = delete;
 
   const StreamInfo& info() const { return info_; }
-  // Camera::disconnected was emitted (unplug, driver unbind, module removed).
+  // Camera::disconnected was emitted (a hotplug pipeline's unplug: UVC in libcamera 0.0.3).
   bool disconnected() const { return disconnected_.load(); }
 
   // Waits up to `timeout` for a completed request; calls `use` with it, then queues the
   // request again with `next`'s controls, which come back in `queued` of the frame it
-  // delivers. False on timeout; DeviceError when the camera
-  // is gone or queueing fails. A request that failed (frame error) is queued again and not
-  // given to `use`.
+  // delivers. False on timeout, unless the camera's video nodes vanished meanwhile (an
+  // unbind or rmmod that 0.0.3 reports no disconnect for): DeviceError, as on a disconnect;
+  // DeviceError when the camera is gone or queueing fails. A request that failed (frame error) is
+  // queued again and not given to `use`.
   bool next_frame(std::chrono::milliseconds timeout, const ExposureStamp& next,
                   const std::function<void(const CompletedFrame&)>& use);
 
  private:
   struct Mapping;
   void queue(std::size_t index, const ExposureStamp& stamp);
-  void teardown();  // stop, free and release in reverse order; safe on a partial start
+  void teardown();
+  void find_video_nodes();
+  bool video_nodes_gone() const;
+  void abandon();  // stop, free and release in reverse order; safe on a partial start
   void on_request_completed(libcamera::Request* request);
   void on_disconnected();
 
@@ -109,6 +113,12 @@ class LibcameraCamera {
   std::condition_variable wake_;
   std::deque<libcamera::Request*> completed_;
   std::atomic<bool> disconnected_{false};
+  struct VideoNode {
+    std::string sysfs_dev;  // /sys/class/video4linux/videoN/dev
+    std::string dev;        // "MAJOR:MINOR" it held at open
+  };
+  std::vector<VideoNode> video_nodes_;
+  bool nodes_vanished_ = false;  // gone without a disconnect: abandon(), not stop()
 };
 
 // Every camera id the manager knows, comma separated, for error messages ("none" if none).

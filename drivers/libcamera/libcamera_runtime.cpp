@@ -40,7 +40,7 @@ std::vector<CameraDescription> list_libcamera_cameras() {
     for (const auto& [id, info] : camera->controls()) {
       if (id == &libcamera::controls::ExposureTime) d.exposure_time = true;
       if (id == &libcamera::controls::AnalogueGain) d.analogue_gain = true;
-      d.controls.push_back(fmt::format("{} [{}]", id->name(), info.toString()));
+      d.controls.push_back(fmt::format("{} {}", id->name(), info.toString()));  // "[min..max]"
     }
     // Formats without acquiring the camera (another process may stream from it).
     if (const auto config = camera->generateConfiguration({libcamera::StreamRole::Viewfinder});
