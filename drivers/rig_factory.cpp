@@ -9,6 +9,9 @@
 #include "drivers/replay/tum_source.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "drivers/v4l2/v4l2_fisheye_source.hpp"
+#ifdef PROBELESS_HAVE_LIBCAMERA
+#include "drivers/libcamera/libcamera_fisheye_source.hpp"
+#endif
 
 namespace probeless {
 namespace {
@@ -66,6 +69,8 @@ std::string rig_spec_help() {
   return "sim, sim:<options>, replay:DIR[?realtime=0,loop=1,rebase=1], "
          "tum:DIR[?realtime=0,loop=1,calibration=FILE], "
          "v4l2:DEVICE[?size=WxH&fps=N&calibration=FILE...], RGBD_SPEC+v4l2:DEVICE[?...], "
+         "libcamera:[CAMERA_ID][?size=WxH&format=NAME&calibration=FILE...], "
+         "RGBD_SPEC+libcamera:[CAMERA_ID][?...], "
          "openni2:[URI][?size=WxH&fps=N...], openni2:FILE.oni[?speed=X&repeat=0|1]";
 }
 
@@ -73,8 +78,18 @@ std::unique_ptr<FisheyeSource> open_fisheye_source(std::string_view spec) {
   if (spec.starts_with("v4l2:")) {
     return std::make_unique<v4l2::V4l2FisheyeSource>(v4l2::parse_v4l2_options(spec.substr(5)));
   }
+  if (spec.starts_with("libcamera:")) {
+#ifdef PROBELESS_HAVE_LIBCAMERA
+    return std::make_unique<libcam::LibcameraFisheyeSource>(
+        libcam::parse_libcamera_options(spec.substr(10)));
+#else
+    throw std::invalid_argument("source '" + std::string(spec) +
+                                "': this build has no libcamera (libcamera-dev was not found "
+                                "when it was configured; docs/boards.md)");
+#endif
+  }
   throw std::invalid_argument("unknown fisheye source '" + std::string(spec) +
-                              "'; valid: v4l2:DEVICE[?options]");
+                              "'; valid: v4l2:DEVICE[?options], libcamera:[CAMERA_ID][?options]");
 }
 
 Rig open_rig(std::string_view spec) {
@@ -108,9 +123,9 @@ Rig open_rig(std::string_view spec) {
   // The RGB-D camera through OpenNI2 (docs/drivers.md "OpenNI2 RGB-D"); with a fisheye:
   // "openni2:...+v4l2:...".
   if (scheme == "openni2") return openni2::open_openni2_rig(rest);
-  // A V4L2 camera is a fisheye only: until an RGB-D driver exists the RGB-D stream is the
-  // synthetic rig's (docs/drivers.md "Spec").
-  if (scheme == "v4l2") return open_combined_rig("sim", std::string(spec));
+  // A V4L2 or libcamera camera is a fisheye only: until an RGB-D driver exists the RGB-D stream is
+  // the synthetic rig's (docs/drivers.md "Spec").
+  if (scheme == "v4l2" || scheme == "libcamera") return open_combined_rig("sim", std::string(spec));
   throw std::invalid_argument("unknown source '" + std::string(spec) +
                               "'; valid: " + rig_spec_help());
 }

@@ -45,6 +45,9 @@ function(probeless_subset_test_fits file out_fits)
     elseif(NOT dir IN_LIST PROBELESS_LAYERS)
       set(${out_fits} "needs ${dir}/" PARENT_SCOPE)
       return()
+    elseif(path MATCHES "^drivers/libcamera/" AND NOT PROBELESS_HAVE_LIBCAMERA)
+      set(${out_fits} "needs libcamera (not found for this build)" PARENT_SCOPE)
+      return()
     elseif(CMAKE_CROSSCOMPILING_EMULATOR AND path MATCHES "^drivers/sim/")
       # The synthetic rig ray-traces its world: natively seconds, under QEMU minutes per
       # test (7.5 of the 8.7 CPU-minutes of the emulated run), for code with nothing
