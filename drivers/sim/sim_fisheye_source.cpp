@@ -70,20 +70,51 @@ ReadResult SimFisheyeSource::read(FisheyeFrame& frame, std::chrono::milliseconds
     std::lock_guard lock(exposure_mutex_);
     exposure = exposure_;
   }
-  render_frame(next_, exposure, frame);
+  if (next_ < static_cast<std::int64_t>(prerendered_.size())) {
+    const Scene& scene = prerendered_[static_cast<std::size_t>(next_)];
+    expose(next_, scene.radiance, scene.truth, exposure, frame);
+  } else {
+    render_frame(next_, exposure, frame);
+  }
   ++next_;
   state_ = SourceState::Streaming;
   return ReadResult::Frame;
 }
 
+void SimFisheyeSource::prerender(std::int64_t count) {
+  if (end_index_ >= 0) count = std::min(count, end_index_);
+  prerendered_.resize(static_cast<std::size_t>(std::max<std::int64_t>(count, 0)));
+  for (std::size_t i = 0; i < prerendered_.size(); ++i)
+    render_scene(static_cast<std::int64_t>(i), prerendered_[i], true);
+}
+
 void SimFisheyeSource::render_frame(std::int64_t index, const ExposureStamp& exposure,
                                     FisheyeFrame& frame) {
+  Scene live;
+  render_scene(index, live, false);
+  expose(index, renderer_.radiance(), live.truth, exposure, frame);
+}
+
+void SimFisheyeSource::render_scene(std::int64_t index, Scene& scene, bool keep_radiance) {
   const double t = pacer_.seconds(index);
   const Pose rig = world_->rig_pose(options_.trajectory, t);
   const int lamps = SimWorld::lamp_state(t);
   const Occluder arm = world_->occluder(t, (rig * geometry_.T_rig_rgb).translation);
   renderer_.render(rig * geometry_.T_rig_fisheye, lamps, &arm, false);
+  if (keep_radiance) scene.radiance = renderer_.radiance();
+  if (options_.ground_truth) {
+    auto truth = std::make_shared<FrameTruth>();
+    truth->rig_pose = rig;
+    truth->light = world_->light(lamps);
+    scene.truth = std::move(truth);
+  } else {
+    scene.truth.reset();
+  }
+}
 
+void SimFisheyeSource::expose(std::int64_t index, const ImageRGBF& rad,
+                              const std::shared_ptr<const FrameTruth>& truth,
+                              const ExposureStamp& exposure, FisheyeFrame& frame) {
   const SensorModel m = sensor_model(options_.fisheye_bit_depth);
   const double gain = exposure.exposure.gain();
   const auto to_dn = static_cast<float>(m.sensitivity * exposure.exposure.time_s * gain);
@@ -92,9 +123,8 @@ void SimFisheyeSource::render_frame(std::int64_t index, const ExposureStamp& exp
   const auto read_var = static_cast<float>(read_dn * read_dn + m.adc_noise_dn * m.adc_noise_dn);
   const auto black = static_cast<float>(m.black), white = static_cast<float>(m.white);
 
-  const int w = renderer_.width(), h = renderer_.height();
+  const int w = rad.width(), h = rad.height();
   if (frame.raw.width() != w || frame.raw.height() != h) frame.raw = ImageRGB16(w, h);
-  const ImageRGBF& rad = renderer_.radiance();
   const auto key = static_cast<std::uint32_t>(
       hash_combine(hash_combine(world_->seed(), 0xf15e7e), static_cast<std::uint64_t>(index)));
   constexpr int kRowsPerTask = 32;
@@ -119,14 +149,7 @@ void SimFisheyeSource::render_frame(std::int64_t index, const ExposureStamp& exp
   frame.bit_depth = options_.fisheye_bit_depth;
   frame.black_level = static_cast<std::uint16_t>(m.black);
   frame.exposure = exposure;
-  if (options_.ground_truth) {
-    auto truth = std::make_shared<FrameTruth>();
-    truth->rig_pose = rig;
-    truth->light = world_->light(lamps);
-    frame.truth = std::move(truth);
-  } else {
-    frame.truth.reset();
-  }
+  frame.truth = truth;
 }
 
 }  // namespace probeless::sim

@@ -95,10 +95,22 @@ ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
     }
     break;
   }
-  render_frame(next_, frame);
+  if (next_ < static_cast<std::int64_t>(prerendered_.size())) {
+    frame = prerendered_[static_cast<std::size_t>(next_)];
+    frame.timestamp_ns = pacer_.timestamp(next_);  // the clock restarted after the rendering
+  } else {
+    render_frame(next_, frame);
+  }
   ++next_;
   state_ = SourceState::Streaming;
   return ReadResult::Frame;
+}
+
+void SimRgbdSource::prerender(std::int64_t count) {
+  if (options_.max_frames >= 0) count = std::min(count, options_.max_frames);
+  prerendered_.resize(static_cast<std::size_t>(std::max<std::int64_t>(count, 0)));
+  for (std::size_t i = 0; i < prerendered_.size(); ++i)
+    render_frame(static_cast<std::int64_t>(i), prerendered_[i]);
 }
 
 const SimRgbdSource::Metering& SimRgbdSource::meter(std::int64_t index) {

@@ -111,6 +111,9 @@ SimOptions parse_sim_options(std::string_view spec) {
       if (o.fisheye_bit_depth != 8 && o.fisheye_bit_depth != 12) bad(key, value, "8 or 12");
     } else if (key == "fisheye_fov") {
       o.fisheye_fov_deg = parse_positive(key, value, 240);
+    } else if (key == "prerender") {
+      o.prerender = parse_number<std::int64_t>(key, value, "a frame count");
+      if (o.prerender < 0 || o.prerender > 100000) bad(key, value, "0..100000 frames");
     } else if (key == "frames" || key == "max_frames") {
       o.max_frames = parse_number<std::int64_t>(key, value, "an integer");
     } else if (key == "stall") {
@@ -131,7 +134,8 @@ SimOptions parse_sim_options(std::string_view spec) {
       throw std::invalid_argument(
           "sim option '" + std::string(key) +
           "': unknown (known: seed, trajectory, fps, rgbd_fps, fisheye_fps, realtime, "
-          "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, frames, stall, truth, "
+          "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, frames, prerender, stall, "
+          "truth, "
           "threads, start)");
     }
   }
@@ -165,8 +169,18 @@ Rig make_sim_rig(const SimOptions& options) {
                              k.height};
   auto world = shared_world(options.seed);
   const TimestampNs start = monotonic_now_ns();
-  rig.rgbd = std::make_unique<SimRgbdSource>(world, options, geometry, start);
-  rig.fisheye = std::make_unique<SimFisheyeSource>(world, options, geometry, fisheye, start);
+  auto rgbd = std::make_unique<SimRgbdSource>(world, options, geometry, start);
+  auto fish = std::make_unique<SimFisheyeSource>(world, options, geometry, fisheye, start);
+  if (options.prerender > 0) {
+    rgbd->prerender(options.prerender);
+    fish->prerender(options.prerender);
+    // Frame times count from when the frames can flow, not from before the rendering.
+    const TimestampNs now = monotonic_now_ns();
+    rgbd->restart_clock(now);
+    fish->restart_clock(now);
+  }
+  rig.rgbd = std::move(rgbd);
+  rig.fisheye = std::move(fish);
   return rig;
 }
 

@@ -40,6 +40,12 @@ struct SimOptions {
   // The scripted world's time at the first frame (orbit angle, lamp switches, the arm):
   // `eval render` starts shortly before a lamp switch instead of rendering 6 s to reach one.
   double start_s = 0;
+  // Frames 0..prerender-1 of each stream rendered before the clock starts and then served from
+  // memory: a camera's frames cost the appliance no CPU, the sim's ray casting ~half of it,
+  // so `bench pipeline --prerender` measures the pipeline alone (docs/performance.md). The
+  // fisheye keeps its radiance and applies the requested exposure and the sensor noise per
+  // read. Memory: ~1.5 MB per RGB-D frame (+ truth), 12 bytes per fisheye pixel.
+  std::int64_t prerender = 0;
 };
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 #include "drivers/sim/sim_renderer.hpp"
 #include "drivers/sim/sim_rig.hpp"
@@ -21,6 +22,7 @@ class FramePacer {
   FramePacer(TimestampNs start_ns, double fps, bool realtime, double start_s = 0)
       : start_ns_(start_ns), fps_(fps), realtime_(realtime), start_s_(start_s) {}
   bool realtime() const { return realtime_; }
+  void restart(TimestampNs start_ns) { start_ns_ = start_ns; }
   // World time of a frame: what the trajectory, the lamps and the arm are evaluated at.
   double seconds(std::int64_t index) const { return start_s_ + index / fps_; }
   TimestampNs timestamp(std::int64_t index) const {
@@ -54,6 +56,9 @@ class SimRgbdSource final : public RgbdSource {
 
   // Renders frame `index` (no pacing): the same index always gives the same frame.
   void render_frame(std::int64_t index, RgbdFrame& frame);
+  // SimOptions::prerender: frames 0..count-1 rendered now, read from memory later.
+  void prerender(std::int64_t count);
+  void restart_clock(TimestampNs start_ns) { pacer_.restart(start_ns); }
 
  private:
   struct Metering {
@@ -70,6 +75,7 @@ class SimRgbdSource final : public RgbdSource {
   SimRenderer renderer_;
   SimRenderer meter_renderer_;
   std::map<std::int64_t, Metering> metering_;
+  std::vector<RgbdFrame> prerendered_;
   std::int64_t next_ = 0;
   TimestampNs stall_wall_end_ = 0;
   std::atomic<SourceState> state_{SourceState::Streaming};
@@ -86,8 +92,21 @@ class SimFisheyeSource final : public FisheyeSource {
   void set_next_exposure(const ExposureStamp& exposure) override;
 
   void render_frame(std::int64_t index, const ExposureStamp& exposure, FisheyeFrame& frame);
+  void prerender(std::int64_t count);
+  void restart_clock(TimestampNs start_ns) { pacer_.restart(start_ns); }
 
  private:
+  // The scene's radiance at frame `index` and its truth: what does not depend on the exposure.
+  // The live path leaves the radiance in the renderer (no 3 MB copy per frame).
+  struct Scene {
+    ImageRGBF radiance;
+    std::shared_ptr<const FrameTruth> truth;
+  };
+  void render_scene(std::int64_t index, Scene& scene, bool keep_radiance);
+  void expose(std::int64_t index, const ImageRGBF& radiance,
+              const std::shared_ptr<const FrameTruth>& truth, const ExposureStamp& exposure,
+              FisheyeFrame& frame);
+
   std::shared_ptr<const SimWorld> world_;
   SimOptions options_;
   RigGeometry geometry_;
@@ -95,6 +114,7 @@ class SimFisheyeSource final : public FisheyeSource {
   WorkerPool pool_;
   SimRenderer renderer_;
   std::int64_t end_index_;
+  std::vector<Scene> prerendered_;
   std::int64_t next_ = 0;
   std::mutex exposure_mutex_;
   ExposureStamp exposure_;

@@ -34,7 +34,7 @@ FisheyeFrame read_fisheye(Rig& rig) {
 TEST(SimOptions, ParsesEveryKey) {
   const SimOptions o = parse_sim_options(
       "seed=3,trajectory=static,fps=60,fisheye_fps=50,realtime=0,stall=60:120,frames=500,"
-      "fisheye_size=256,fisheye_bits=8,fisheye_fov=185,truth=0,threads=1,start=4.5");
+      "fisheye_size=256,fisheye_bits=8,fisheye_fov=185,truth=0,threads=1,start=4.5,prerender=7");
   EXPECT_EQ(o.seed, 3u);
   EXPECT_EQ(o.trajectory, TrajectoryKind::Static);
   EXPECT_EQ(o.rgbd_fps, 60);
@@ -49,6 +49,7 @@ TEST(SimOptions, ParsesEveryKey) {
   EXPECT_FALSE(o.ground_truth);
   EXPECT_EQ(o.render_threads, 1);
   EXPECT_EQ(o.start_s, 4.5);
+  EXPECT_EQ(o.prerender, 7);
   EXPECT_FALSE(o.fisheye_realtime.has_value()) << "unset: follows realtime";
   EXPECT_EQ(parse_sim_options("realtime=0,fisheye_realtime=1").fisheye_realtime, true);
   EXPECT_EQ(parse_sim_options("seed=1").seed, 1u);
@@ -56,9 +57,9 @@ TEST(SimOptions, ParsesEveryKey) {
 }
 
 TEST(SimOptions, ErrorsNameTheKey) {
-  for (const char* spec :
-       {"sed=3", "seed=x", "trajectory=spiral", "stall=5", "fisheye_bits=10", "fisheye_size=4096",
-        "fps=-1", "realtime=maybe", "fisheye_realtime=2", "start=-1", "start=soon"}) {
+  for (const char* spec : {"sed=3", "seed=x", "trajectory=spiral", "stall=5", "fisheye_bits=10",
+                           "fisheye_size=4096", "fps=-1", "realtime=maybe", "fisheye_realtime=2",
+                           "start=-1", "start=soon", "prerender=-1", "prerender=lots"}) {
     try {
       parse_sim_options(spec);
       ADD_FAILURE() << spec << " was accepted";
@@ -86,6 +87,44 @@ TEST(SimRig, SameSeedSameFrames) {
   Rig c = open("seed=6,realtime=0,trajectory=handheld");
   Rig d = open("seed=5,realtime=0,trajectory=handheld");
   EXPECT_FALSE(read_rgbd(c).color == read_rgbd(d).color);
+}
+
+// Prerendered frames are the frames the sim renders live (bench pipeline --prerender measures
+// the same pipeline work), past them it renders live again, and the fisheye still applies the
+// exposure asked for at the read.
+TEST(SimRig, PrerenderedFramesAreTheLiveOnes) {
+  Rig live = open("seed=4,realtime=0");
+  Rig pre = open("seed=4,realtime=0,prerender=3");
+  for (int i = 0; i < 5; ++i) {  // 3 from memory, then 2 live
+    const RgbdFrame a = read_rgbd(live), b = read_rgbd(pre);
+    EXPECT_EQ(a.sequence, b.sequence);
+    EXPECT_TRUE(a.color == b.color) << "frame " << i;
+    EXPECT_TRUE(a.depth == b.depth) << "frame " << i;
+    EXPECT_TRUE(a.truth->clean_depth == b.truth->clean_depth) << "frame " << i;
+  }
+  ExposureStamp dark;
+  dark.exposure.time_s = 0.001;
+  ExposureStamp bright = dark;
+  bright.exposure.time_s = 0.004;
+  for (int i = 0; i < 4; ++i) {
+    const ExposureStamp& e = i % 2 ? bright : dark;
+    live.fisheye->set_next_exposure(e);
+    pre.fisheye->set_next_exposure(e);
+    const FisheyeFrame a = read_fisheye(live), b = read_fisheye(pre);
+    EXPECT_TRUE(a.raw == b.raw) << "fisheye frame " << i;
+    EXPECT_EQ(b.exposure.exposure.time_s, e.exposure.time_s);
+    ASSERT_TRUE(b.truth && b.truth->rig_pose);
+    EXPECT_TRUE(a.truth->rig_pose->translation.isApprox(b.truth->rig_pose->translation));
+  }
+}
+
+TEST(SimRig, PrerenderRestartsTheClockAfterRendering) {
+  const TimestampNs before = monotonic_now_ns();
+  Rig pre = open("seed=4,realtime=0,prerender=4");
+  const TimestampNs after = monotonic_now_ns();
+  const RgbdFrame f = read_rgbd(pre);
+  EXPECT_GE(f.timestamp_ns, before + (after - before) / 2)
+      << "frame 0's time is when the frames could flow, not before the rendering";
 }
 
 TEST(SimRig, ThreadCountDoesNotChangeTheFrames) {

@@ -1,0 +1,47 @@
+// `probeless bench pipeline` as a user runs it: the numbers come out (not their size: timing
+// is for the bench, not for tests), and --prerender reaches the sim and carries the light load.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "support/subprocess.hpp"
+#include "support/test_data.hpp"
+
+namespace probeless::testing {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string probeless_binary() {
+  const char* b = std::getenv("PROBELESS_BINARY");
+  return b ? b : "probeless";
+}
+
+TEST(BenchPipelineCli, PrerenderRunsThePipelineOnFramesRenderedBeforehand) {
+  const auto json = scratch_dir() / "bench-pipeline.json";
+  Subprocess bench({probeless_binary(), "bench", "pipeline", "--frames", "6", "--warmup", "2",
+                    "--prerender", "--json", json.string()},
+                   {}, true);
+  ASSERT_EQ(bench.wait(120s).value_or(-1), 0) << bench.output();
+  std::ifstream f(json);
+  const nlohmann::json j = nlohmann::json::parse(f);
+  EXPECT_GT(j["fps"].get<double>(), 0);
+  EXPECT_EQ(j["frames"].get<int>(), 6);
+  EXPECT_NE(j["source"].get<std::string>().find("prerender=8"), std::string::npos) << j["source"];
+  EXPECT_GT(j["light_frames"].get<int>(), 0) << "the fisheye and the light thread ran";
+  EXPECT_TRUE(j["stages"].contains("render"));
+}
+
+TEST(BenchPipelineCli, PrerenderOfARecordingIsAClearError) {
+  Subprocess bench({probeless_binary(), "bench", "pipeline", "--frames", "6", "--prerender",
+                    "--source", "replay:/nowhere"},
+                   {}, true);
+  EXPECT_TRUE(bench.wait_for_line("--prerender needs a sim source", 60s).has_value())
+      << bench.output();
+  EXPECT_EQ(bench.wait(60s).value_or(-1), 1);
+}
+
+}  // namespace
+}  // namespace probeless::testing
