@@ -8,7 +8,7 @@
 // its linear colour times the colour camera's exposure e (kernels/hdr/colour_exposure.hpp) is
 // radiance in the fisheye's units. Texels the fisheye observed above the horizon keep their
 // value. Beyond the thesis, which lit from the fisheye alone (thesis ch. 5). Measured with
-// `eval render` (2026-11-24): the chrome sphere's lower half 0.53 -> 0.25 relative RMSE, the
+// `eval render` (2026-11-23): the chrome sphere's lower half 0.53 -> 0.25 relative RMSE, the
 // whole sphere 0.256 -> 0.249 (docs/light-capture.md "Below the horizon").
 #include <Eigen/Core>
 
@@ -27,7 +27,7 @@ struct ColourFillParams {
   // seen at a grazing 13 degrees), so whole blocks of texels see no sample.
   int max_level = 6;
   // Above the horizon a texel the fisheye did not observe takes only samples of its own block
-  // at levels < this: measured with `eval render` (2026-11-24), the coarse blocks filled the
+  // at levels < this: measured with `eval render` (2026-11-23), the coarse blocks filled the
   // band of bright window just above the object's horizon (radiance ~10^4) with the wall
   // around it (~10^2): chrome sphere 0.25 -> 0.48. With 1, 2 or 3: 0.249; 0: 0.249.
   int levels_above_horizon = 1;

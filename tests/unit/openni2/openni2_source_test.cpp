@@ -262,7 +262,7 @@ TEST_F(OniPlayback, SpeedScalesPlaybackTime) {
   Openni2RgbdSource fastest(options("?speed=0"));
   const Played at_0 = play(fastest);
   // At speed 1 and 4 OpenNI drops the frames the reader was late for: 0-2 of 12 alone, 4 of 12
-  // with four copies of this test beside an ASan suite on 2 cores (2026-11-24); manual mode (0)
+  // with four copies of this test beside an ASan suite on 2 cores (2026-11-23); manual mode (0)
   // loses none.
   EXPECT_TRUE(at_1.ended && at_4.ended && at_0.ended);
   EXPECT_GE(at_1.frames, n / 2);
