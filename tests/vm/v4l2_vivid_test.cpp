@@ -18,6 +18,9 @@
 #include <fstream>
 #include <thread>
 
+#include "drivers/replay/recording_writer.hpp"
+#include "drivers/rig_factory.hpp"
+#include "drivers/sim/sim_rig.hpp"
 #include "drivers/v4l2/v4l2_camera.hpp"
 #include "drivers/v4l2/v4l2_fisheye_source.hpp"
 
@@ -232,6 +235,50 @@ TEST_F(Vivid, UnbindIsNoDeviceWithinAFramePeriodAndRebindStreamsWithinTwoSeconds
   std::printf("[ vivid    ] first frame %.1f ms after the bind\n", (frame_ns - bound_ns) / 1e6);
   EXPECT_EQ(source.state(), SourceState::Streaming);
   EXPECT_EQ(f.raw.width(), 320);
+}
+
+// The boards' rig (board/*/board.toml, docs/boards.md): an OpenNI2 RGB-D sensor and a V4L2
+// fisheye in one spec, through the rig factory, with the unit's calibration file. OpenNI2's
+// Dummy device stands in for the sensor (the guest runs the host's libOpenNI2 and drivers).
+TEST_F(Vivid, OpenNi2AndV4l2CombineIntoOneRig) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "probeless-combined-rig";
+  fs::remove_all(dir);
+  {
+    // A calibration file as a bring-up writes one; the sim's geometry will do.
+    replay::RecordingWriter writer(dir, sim::make_sim_rig(sim::parse_sim_options("")).calibration);
+  }
+  const std::string spec =
+      "openni2:Dummy?size=320x240&hotplug=0+v4l2:vivid?size=320x180&fps=30&latency=0&calibration=" +
+      (dir / "calibration.toml").string();
+  Rig rig;
+  try {
+    rig = open_rig(spec);
+  } catch (const std::exception& e) {
+    FAIL() << spec << ": " << e.what();
+  }
+  ASSERT_TRUE(rig.rgbd && rig.fisheye);
+  ASSERT_TRUE(rig.calibration.fisheye) << "the calibration file's fisheye model";
+  int rgbd = 0, fisheye = 0;
+  const auto give_up = std::chrono::steady_clock::now() + 20s;
+  while ((rgbd < 5 || fisheye < 5) && std::chrono::steady_clock::now() < give_up) {
+    RgbdFrame r;
+    if (rgbd < 5 && rig.rgbd->read(r, 200ms) == ReadResult::Frame) {
+      EXPECT_EQ(r.color.width(), 320);
+      EXPECT_EQ(r.depth.width(), 320);
+      ++rgbd;
+    }
+    FisheyeFrame f;
+    if (fisheye < 5 && rig.fisheye->read(f, 200ms) == ReadResult::Frame) {
+      EXPECT_EQ(f.raw.width(), 320);
+      ++fisheye;
+    }
+  }
+  EXPECT_EQ(rgbd, 5) << rig.rgbd->last_error();
+  EXPECT_EQ(fisheye, 5) << rig.fisheye->last_error();
+  std::printf("[ vivid    ] %s: %d RGB-D + %d fisheye frames\n", rig.rgbd->name().c_str(), rgbd,
+              fisheye);
+  fs::remove_all(dir);
 }
 
 }  // namespace
