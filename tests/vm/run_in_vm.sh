@@ -72,6 +72,13 @@ for path in "${order[@]}"; do
   echo "$(basename "${path%.xz}")" >>"$root/modules"
 done
 
+# The sanitizer runtime's options travel with the command (ctest --preset asan sets them on
+# the host; the guest's init starts from an empty environment).
+sanitizer_env=()
+for var in ASAN_OPTIONS LSAN_OPTIONS UBSAN_OPTIONS; do
+  [[ -n ${!var:-} ]] && sanitizer_env+=("$var=${!var}")
+done
+((${#sanitizer_env[@]} > 0)) && set -- env "${sanitizer_env[@]}" "$@"
 printf '%q ' "$@" >"$root/command"
 printf '%s' "$workdir" >"$root/workdir"
 cat >"$root/init" <<'EOF'
