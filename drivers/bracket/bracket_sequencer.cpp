@@ -40,6 +40,28 @@ BracketSequencer::BracketSequencer(const BracketConfig& config) : config_(config
   const int spread = std::max(sp, config.initial_spread_stops);
   stop_[0] = std::max(min_stop_, stop_[1] - spread);
   stop_[2] = std::min(max_stop_, stop_[1] + spread);
+  low_fraction_.assign(static_cast<std::size_t>(max_stop_ - min_stop_ + 1), -1.0);
+}
+
+void BracketSequencer::record_low_fraction(int stop, double fraction) {
+  for (int s = min_stop_; s <= max_stop_; ++s) {
+    double& f = low_fraction_[static_cast<std::size_t>(s - min_stop_)];
+    if (s == stop)
+      f = fraction;
+    else if (s > stop && f >= 0 && f < fraction)
+      f = fraction;  // brighter than when that stop was seen
+    else if (s < stop && f > fraction)
+      f = fraction;
+  }
+}
+
+int BracketSequencer::bulk_low_stop() const {
+  int best = stop_[0];
+  for (int s = stop_[0]; s <= max_stop_; ++s) {
+    const double f = low_fraction_[static_cast<std::size_t>(s - min_stop_)];
+    if (f >= 0 && f <= config_.medium_saturated_fraction) best = s;
+  }
+  return best;
 }
 
 double BracketSequencer::exposure_value(int stop) const {
@@ -78,6 +100,7 @@ bool BracketSequencer::observe(const ExposureStamp& taken, const ExposureStats& 
   int& high = stop_[2];
   switch (taken.level) {
     case BracketLevel::Low:
+      record_low_fraction(low, static_cast<double>(stats.saturated) / n);
       // Thesis ch. 5: one stop down while too many saturate, one up when none do.
       if (stats.saturated > sat_limit && low > min_stop_) {
         --low;
@@ -99,11 +122,11 @@ bool BracketSequencer::observe(const ExposureStamp& taken, const ExposureStats& 
       }
       return false;
     case BracketLevel::Medium: {
-      // Slowly towards the middle of L and H, once per cycle (its second frame).
+      // Slowly towards the middle of the bulk's L and H, once per cycle (its second frame).
       if (!config_.adapt_medium || taken.cycle_position != 3) return false;
       const auto period = static_cast<std::int64_t>(std::max(1, config_.medium_period_cycles));
       if (static_cast<std::int64_t>(taken.cycle) < medium_last_move_cycle_ + period) return false;
-      const int target = static_cast<int>(std::floor((low + high) / 2.0));
+      const int target = static_cast<int>(std::floor((bulk_low_stop() + high) / 2.0));
       int step = target > med ? 1 : target < med ? -1 : 0;
       const int moved = med + step;
       if (step == 0 || moved < low + sp || moved > high - sp) return false;

@@ -1,15 +1,17 @@
 // The bracket sequencer's decisions on hand-made counts, the mains limit and the gain/time
 // split (docs/bracketing.md).
+#include "drivers/bracket/bracket_sequencer.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "drivers/bracket/bracket_sequencer.hpp"
-
 namespace probeless {
 namespace {
 
-constexpr std::size_t kPixels = 1000000;  // threshold 0.001 -> 1000 pixels
+constexpr std::size_t kPixels = 1000000;
+// Low: 2e-5 -> 20 pixels; medium's bulk and high: 0.001 -> 1000 pixels.
+constexpr std::size_t kLowLimit = 20;
 
 // The stamp the sequencer would give a level now (the cycle is only read by the medium rule).
 ExposureStamp stamp_for(const BracketSequencer& seq, BracketLevel level, std::uint64_t cycle = 0) {
@@ -58,13 +60,14 @@ TEST(BracketSequencer, CyclesLowMediumHighMediumWithStamps) {
 
 TEST(BracketSequencer, LowStepsDownWhileTooManySaturate) {
   BracketSequencer seq;
-  EXPECT_TRUE(seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, 1001, 0}));
+  EXPECT_TRUE(seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, kLowLimit + 1, 0}));
   EXPECT_EQ(seq.low_stop(), -4);
   // At the threshold (not above) and some saturated: stay.
-  EXPECT_FALSE(seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, 1000, 0}));
+  EXPECT_FALSE(seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, kLowLimit, 0}));
   EXPECT_EQ(seq.low_stop(), -4);
   // Never below the camera's shortest exposure.
-  for (int i = 0; i < 10; ++i) seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, kPixels, 0});
+  for (int i = 0; i < 10; ++i)
+    seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, kPixels, 0});
   EXPECT_EQ(seq.low_stop(), seq.min_stop());
 }
 
@@ -81,10 +84,10 @@ TEST(BracketSequencer, LowStepsUpWhenNoneSaturateKeepingOneStopBelowMedium) {
 TEST(BracketSequencer, LowDoesNotStepUpIntoAnExposureThatWouldSaturate) {
   BracketSequencer seq;
   ExposureStats stats{kPixels, 0, 0};
-  stats.near_saturated = 1001;  // one stop more would saturate more than the threshold
+  stats.near_saturated = kLowLimit + 1;  // one stop more would saturate too many
   EXPECT_FALSE(seq.observe(stamp_for(seq, BracketLevel::Low), stats));
   EXPECT_EQ(seq.low_stop(), -3);
-  stats.near_saturated = 1000;
+  stats.near_saturated = kLowLimit;
   EXPECT_TRUE(seq.observe(stamp_for(seq, BracketLevel::Low), stats));
   EXPECT_EQ(seq.low_stop(), -2);
 }
@@ -143,6 +146,31 @@ TEST(BracketSequencer, MediumMovesSlowlyTowardsTheMiddle) {
     fixed.observe(stamp_for(fixed, BracketLevel::Low), {kPixels, kPixels, 0});
   EXPECT_FALSE(fixed.observe(stamp_for(fixed, BracketLevel::Medium, 0), {kPixels, 0, 0}));
   EXPECT_EQ(fixed.medium_stop(), 0);
+}
+
+// L goes down for the few brightest pixels (the light's energy), M stays placed by the bulk
+// of the scene: the highest L stop seen with at most 0.001 saturated.
+TEST(BracketSequencer, MediumFollowsTheBulkNotTheBrightestFewPixels) {
+  BracketSequencer seq;
+  const std::size_t seen[] = {5000, 500, 100, 10};  // at stops -3, -4, -5, -6
+  for (const std::size_t saturated : seen)
+    seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, saturated, 0});
+  ASSERT_EQ(seq.low_stop(), -6);
+  EXPECT_EQ(seq.bulk_low_stop(), -4);
+  // Towards floor((-4 + 3) / 2) = -1, not floor((-6 + 3) / 2) = -2.
+  EXPECT_TRUE(seq.observe(stamp_for(seq, BracketLevel::Medium, 0), {kPixels, 0, 0}));
+  EXPECT_EQ(seq.medium_stop(), -1);
+  EXPECT_FALSE(seq.observe(stamp_for(seq, BracketLevel::Medium, 2), {kPixels, 0, 0}));
+  EXPECT_EQ(seq.medium_stop(), -1);
+
+  // The scene brightens: what was seen at the longer stops no longer holds.
+  EXPECT_TRUE(seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, 2000, 0}));
+  EXPECT_EQ(seq.low_stop(), -7);
+  EXPECT_EQ(seq.bulk_low_stop(), -7);  // nothing known to hold the bulk: L itself
+  EXPECT_FALSE(seq.observe(stamp_for(seq, BracketLevel::Low), {kPixels, 5, 0}));
+  EXPECT_EQ(seq.bulk_low_stop(), -7);
+  EXPECT_TRUE(seq.observe(stamp_for(seq, BracketLevel::Medium, 4), {kPixels, 0, 0}));
+  EXPECT_EQ(seq.medium_stop(), -2);  // towards floor((-7 + 3) / 2)
 }
 
 TEST(SplitExposure, LongestTimeUpToTheMainsPeriodThenLowestGain) {
