@@ -14,4 +14,8 @@ inline TimestampNs monotonic_now_ns() {
       .count();
 }
 
+constexpr TimestampNs ms_to_ns(std::int64_t ms) {
+  return ms * 1'000'000;
+}
+
 }  // namespace probeless

@@ -11,10 +11,6 @@
 namespace probeless::libcam {
 namespace {
 
-TimestampNs ms_to_ns(std::int64_t ms) {
-  return ms * 1'000'000;
-}
-
 const char* control_note(bool offered) {
   return offered ? "per request" : "not offered (frames keep the requested value)";
 }
@@ -40,13 +36,7 @@ const StreamInfo* LibcameraFisheyeSource::stream_info() const {
 }
 
 std::string LibcameraFisheyeSource::last_error() const {
-  std::lock_guard lock(mutex_);
-  return error_;
-}
-
-void LibcameraFisheyeSource::set_error(std::string message) {
-  std::lock_guard lock(mutex_);
-  error_ = std::move(message);
+  return error_.get();
 }
 
 void LibcameraFisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
@@ -54,17 +44,14 @@ void LibcameraFisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
   requested_ = exposure;
 }
 
-// The next look is reopen_ms after this one ended: the process's first CameraManager start
-// can take a second on a loaded machine, and a read must not look again at once.
 bool LibcameraFisheyeSource::open_failed(const std::string& why) {
   state_ = SourceState::NoDevice;
-  set_error(why);
-  next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
+  error_.set(why);
+  reopen_.looked();
   return false;
 }
 
 bool LibcameraFisheyeSource::try_open() {
-  next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
   ExposureStamp initial;
   {
     std::lock_guard lock(mutex_);
@@ -87,7 +74,7 @@ bool LibcameraFisheyeSource::try_open() {
   spdlog::info("{}: camera '{}' {} {}x{}, ExposureTime {}, AnalogueGain {}", name(), info.camera_id,
                info.format, info.width, info.height, control_note(info.exposure_time),
                control_note(info.analogue_gain));
-  set_error({});
+  error_.set({});
   last_frame_ns_ = monotonic_now_ns();
   state_ = SourceState::NoSignal;  // open, no completed request yet
   return true;
@@ -96,20 +83,14 @@ bool LibcameraFisheyeSource::try_open() {
 void LibcameraFisheyeSource::lose_device(const std::string& why) {
   camera_.reset();  // stops, frees and releases: the camera may come back under the same id
   state_ = SourceState::NoDevice;
-  set_error(why);
-  next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
+  error_.set(why);
+  reopen_.looked();
   spdlog::warn("{}: camera lost ({}); looking for it every {} ms", name(), why, options_.reopen_ms);
 }
 
 ReadResult LibcameraFisheyeSource::read(FisheyeFrame& frame, std::chrono::milliseconds timeout) {
   const TimestampNs deadline = monotonic_now_ns() + ms_to_ns(timeout.count());
-  if (!camera_) {
-    // Wait for the next look (or the caller's deadline, whichever is first), not spin.
-    const TimestampNs wake = std::min(next_open_ns_, deadline);
-    const TimestampNs now = monotonic_now_ns();
-    if (wake > now) std::this_thread::sleep_for(std::chrono::nanoseconds(wake - now));
-    if (monotonic_now_ns() < next_open_ns_ || !try_open()) return ReadResult::Error;
-  }
+  if (!camera_ && (!reopen_.wait_until_due(deadline) || !try_open())) return ReadResult::Error;
   ExposureStamp next;
   {
     std::lock_guard lock(mutex_);

@@ -11,6 +11,7 @@
 #include <mutex>
 #include <string>
 
+#include "drivers/device_health.hpp"
 #include "drivers/libcamera/libcamera_options.hpp"
 #include "drivers/source.hpp"
 
@@ -47,19 +48,18 @@ class LibcameraFisheyeSource final : public FisheyeSource {
   bool try_open();
   bool open_failed(const std::string& why);
   void lose_device(const std::string& why);
-  void set_error(std::string message);
 
   LibcameraOptions options_;
   std::shared_ptr<libcamera::CameraManager> manager_;
   std::unique_ptr<LibcameraCamera> camera_;
-  TimestampNs next_open_ns_ = 0;
+  ReopenClock reopen_{options_.reopen_ms};
   TimestampNs last_frame_ns_ = 0;  // monotonic, for "stalled"
   std::uint64_t sequence_ = 0;
   std::uint32_t pipeline_sequence_ = 0;
 
-  mutable std::mutex mutex_;  // guards requested_ and error_ (set from other threads)
+  mutable std::mutex mutex_;  // guards requested_ (set from other threads)
   ExposureStamp requested_;
-  std::string error_;
+  SharedMessage error_;
   std::atomic<SourceState> state_{SourceState::NoDevice};
 };
 

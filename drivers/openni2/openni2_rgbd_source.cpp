@@ -13,10 +13,6 @@ namespace {
 
 constexpr std::size_t kMaxWaiting = 4;
 
-TimestampNs ms_to_ns(std::int64_t ms) {
-  return ms * 1'000'000;
-}
-
 }  // namespace
 
 // OpenNI calls this on its own thread when a driver reports a device gone (a USB unplug);
@@ -80,32 +76,28 @@ std::string Openni2RgbdSource::name() const {
 }
 
 std::string Openni2RgbdSource::last_error() const {
-  std::lock_guard lock(mutex_);
-  return error_;
+  return error_.get();
 }
 
-void Openni2RgbdSource::set_error(std::string message) {
-  std::lock_guard lock(mutex_);
-  error_ = std::move(message);
+bool Openni2RgbdSource::open_failed(const std::string& why) {
+  state_ = SourceState::NoDevice;
+  error_.set(why);
+  reopen_.looked();
+  return false;
 }
 
 bool Openni2RgbdSource::try_open() {
-  next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
   arrived_ = false;
   lost_ = false;
   try {
     camera_ = std::make_unique<Openni2Camera>(options_, runtime_);
   } catch (const DeviceMissing& e) {
-    state_ = SourceState::NoDevice;
-    set_error(e.what());
-    return false;
+    return open_failed(e.what());
   } catch (const OpenniError& e) {
     // At start-up this is the configuration's fault: say so at once. Once running, the
     // device that came back may be another one: keep waiting for the right one.
     if (sequence_ == 0) throw;
-    state_ = SourceState::NoDevice;
-    set_error(e.what());
-    return false;
+    return open_failed(e.what());
   }
   const CameraInfo& info = camera_->info();
   listener_->watch(info.uri);
@@ -114,7 +106,7 @@ bool Openni2RgbdSource::try_open() {
                describe(info.depth), info.registered ? "on" : "off (not offered)",
                info.synced ? "on" : "off",
                info.is_file ? fmt::format(", {} frames", info.colour_frames) : std::string());
-  set_error({});
+  error_.set({});
   colours_.clear();
   depths_.clear();
   anchored_ = false;
@@ -128,8 +120,8 @@ void Openni2RgbdSource::lose_device(const std::string& why) {
   camera_.reset();
   listener_->watch({});
   state_ = SourceState::NoDevice;
-  set_error(why);
-  next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
+  error_.set(why);
+  reopen_.looked();
   spdlog::warn("{}: device lost ({}); looking for it every {} ms{}", name(), why,
                options_.reopen_ms, watcher_ ? " and on USB arrival" : "");
 }
@@ -211,9 +203,9 @@ ReadResult Openni2RgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds t
   if (!camera_) {
     if (state_ == SourceState::Ended) return ReadResult::EndOfStream;
     // Wait for the next look (or the caller's deadline, or a USB arrival), not spin.
-    while (!arrived_ && monotonic_now_ns() < std::min(next_open_ns_, deadline))
+    while (!arrived_ && monotonic_now_ns() < std::min(reopen_.next_ns(), deadline))
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    if ((!arrived_ && monotonic_now_ns() < next_open_ns_) || !try_open()) return ReadResult::Error;
+    if ((!arrived_ && !reopen_.due()) || !try_open()) return ReadResult::Error;
   }
   while (true) {
     if (camera_->finished()) {

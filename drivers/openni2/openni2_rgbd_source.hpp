@@ -9,9 +9,9 @@
 #include <atomic>
 #include <deque>
 #include <memory>
-#include <mutex>
 #include <string>
 
+#include "drivers/device_health.hpp"
 #include "drivers/openni2/openni2_camera.hpp"
 #include "drivers/openni2/openni2_options.hpp"
 #include "drivers/source.hpp"
@@ -44,10 +44,10 @@ class Openni2RgbdSource final : public RgbdSource {
  private:
   class DisconnectListener;
   bool try_open();
+  bool open_failed(const std::string& why);
   void lose_device(const std::string& why);
   void on_stall(TimestampNs now);
   TimestampNs to_monotonic(std::uint64_t device_us);
-  void set_error(std::string message);
 
   Openni2Options options_;
   std::shared_ptr<OpenniRuntime> runtime_;
@@ -68,7 +68,7 @@ class Openni2RgbdSource final : public RgbdSource {
   DepthImage incoming_depth_;
   bool take_pair(RgbdFrame& frame);
 
-  TimestampNs next_open_ns_ = 0;
+  ReopenClock reopen_{options_.reopen_ms};
   TimestampNs last_frame_ns_ = 0;  // monotonic, for "stalled"
   bool stall_handled_ = false;
   std::uint64_t sequence_ = 0;
@@ -80,8 +80,7 @@ class Openni2RgbdSource final : public RgbdSource {
 
   std::atomic<bool> lost_{false};
   std::atomic<bool> arrived_{false};
-  mutable std::mutex mutex_;  // guards error_
-  std::string error_;
+  SharedMessage error_;
   std::atomic<SourceState> state_{SourceState::NoDevice};
 };
 

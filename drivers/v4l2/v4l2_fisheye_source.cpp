@@ -14,10 +14,6 @@ namespace {
 constexpr double kExposureUnitS = 100e-6;  // V4L2_CID_EXPOSURE_ABSOLUTE counts 100 us
 constexpr std::size_t kHistory = 32;       // control changes kept for stamping late frames
 
-TimestampNs ms_to_ns(std::int64_t ms) {
-  return ms * 1'000'000;
-}
-
 }  // namespace
 
 V4l2FisheyeSource::V4l2FisheyeSource(V4l2Options options) : options_(std::move(options)) {
@@ -32,13 +28,7 @@ const CaptureInfo* V4l2FisheyeSource::capture_info() const {
 }
 
 std::string V4l2FisheyeSource::last_error() const {
-  std::lock_guard lock(mutex_);
-  return error_;
-}
-
-void V4l2FisheyeSource::set_error(std::string message) {
-  std::lock_guard lock(mutex_);
-  error_ = std::move(message);
+  return error_.get();
 }
 
 void V4l2FisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
@@ -47,27 +37,29 @@ void V4l2FisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
   requested_ = exposure;
 }
 
+bool V4l2FisheyeSource::open_failed(const std::string& why) {
+  state_ = SourceState::NoDevice;
+  error_.set(why);
+  reopen_.looked();
+  return false;
+}
+
 bool V4l2FisheyeSource::try_open() {
-  next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
   try {
     camera_ = std::make_unique<V4l2Camera>(options_);
   } catch (const DeviceError& e) {
-    state_ = SourceState::NoDevice;
-    set_error(e.what());
-    return false;
+    return open_failed(e.what());
   } catch (const ConfigError& e) {
     // At start-up a wrong size or format is the configuration's fault: say so at once. Once
     // running, the device that came back may be another one: keep waiting for the right one.
     if (sequence_ == 0 && applied_.empty()) throw;
-    state_ = SourceState::NoDevice;
-    set_error(e.what());
-    return false;
+    return open_failed(e.what());
   }
   const CaptureInfo& info = camera_->info();
   spdlog::info("{}: {} '{}' ({}) {} {}x{} at {:.2f} fps, exposure control {}, gain control {}",
                name(), info.path, info.card, info.driver, info.fourcc, info.width, info.height,
                info.fps, info.exposure.present ? "yes" : "no", info.gain.present ? "yes" : "no");
-  set_error({});
+  error_.set({});
   last_frame_ns_ = monotonic_now_ns();
   state_ = SourceState::NoSignal;  // open, no frame yet
   {
@@ -80,8 +72,8 @@ bool V4l2FisheyeSource::try_open() {
 void V4l2FisheyeSource::lose_device(const std::string& why) {
   camera_.reset();  // stops streaming, unmaps, closes: the node may come back as a new one
   state_ = SourceState::NoDevice;
-  set_error(why);
-  next_open_ns_ = monotonic_now_ns() + ms_to_ns(options_.reopen_ms);
+  error_.set(why);
+  reopen_.looked();
   spdlog::warn("{}: device lost ({}); looking for it every {} ms", name(), why, options_.reopen_ms);
 }
 
@@ -123,13 +115,7 @@ ExposureStamp V4l2FisheyeSource::stamp_for(TimestampNs frame_ns) const {
 
 ReadResult V4l2FisheyeSource::read(FisheyeFrame& frame, std::chrono::milliseconds timeout) {
   const TimestampNs deadline = monotonic_now_ns() + ms_to_ns(timeout.count());
-  if (!camera_) {
-    // Wait for the next look (or the caller's deadline, whichever is first), not spin.
-    const TimestampNs wake = std::min(next_open_ns_, deadline);
-    const TimestampNs now = monotonic_now_ns();
-    if (wake > now) std::this_thread::sleep_for(std::chrono::nanoseconds(wake - now));
-    if (monotonic_now_ns() < next_open_ns_ || !try_open()) return ReadResult::Error;
-  }
+  if (!camera_ && (!reopen_.wait_until_due(deadline) || !try_open())) return ReadResult::Error;
   bool got = false;
   try {
     apply_pending_exposure();

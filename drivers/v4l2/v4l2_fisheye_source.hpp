@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "drivers/device_health.hpp"
 #include "drivers/source.hpp"
 #include "drivers/v4l2/v4l2_options.hpp"
 
@@ -46,23 +47,23 @@ class V4l2FisheyeSource final : public FisheyeSource {
     ExposureStamp stamp;
   };
   bool try_open();
+  bool open_failed(const std::string& why);
   void lose_device(const std::string& why);
   void apply_pending_exposure();
   ExposureStamp stamp_for(TimestampNs frame_ns) const;
-  void set_error(std::string message);
 
   V4l2Options options_;
   std::unique_ptr<V4l2Camera> camera_;
-  TimestampNs next_open_ns_ = 0;
+  ReopenClock reopen_{options_.reopen_ms};
   TimestampNs last_frame_ns_ = 0;  // monotonic, for "stalled"
   std::uint64_t sequence_ = 0;
   std::uint32_t driver_sequence_ = 0;
   std::deque<Applied> applied_;  // recent control changes, oldest first
 
-  mutable std::mutex mutex_;  // guards pending_, requested_ and error_ (set from other threads)
+  mutable std::mutex mutex_;  // guards pending_ and requested_ (set from other threads)
   std::optional<ExposureStamp> pending_;
   ExposureStamp requested_;
-  std::string error_;
+  SharedMessage error_;
   std::atomic<SourceState> state_{SourceState::NoDevice};
 };
 
