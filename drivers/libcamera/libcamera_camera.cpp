@@ -121,8 +121,6 @@ LibcameraCamera::LibcameraCamera(std::shared_ptr<lc::CameraManager> manager,
                     "libcamera 0.0.3 lists it until the process restarts)",
                     info_.camera_id));
   }
-  camera_->disconnected.connect(this, &LibcameraCamera::on_disconnected);
-  camera_->requestCompleted.connect(this, &LibcameraCamera::on_request_completed);
   try {
     if (const int ret = camera_->acquire(); ret < 0)
       throw DeviceError(
@@ -130,6 +128,12 @@ LibcameraCamera::LibcameraCamera(std::shared_ptr<lc::CameraManager> manager,
                       "by another process?)",
                       info_.camera_id, ret));
     acquired_ = true;
+    // Only once the camera is ours: the Camera object is shared, and a slot connected while
+    // another source streams it is called for that source's requests on libcamera's thread
+    // (vm_vimc crashed so under load: "Camera in Running state trying acquire()", then
+    // SIGSEGV in our completion handler with another source's request).
+    camera_->disconnected.connect(this, &LibcameraCamera::on_disconnected);
+    camera_->requestCompleted.connect(this, &LibcameraCamera::on_request_completed);
     find_video_nodes();
 
     const Choice choice = choose_format(*camera_, o);
