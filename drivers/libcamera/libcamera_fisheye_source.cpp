@@ -3,7 +3,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <thread>
 
 #include "drivers/libcamera/libcamera_camera.hpp"
 #include "drivers/libcamera/libcamera_runtime.hpp"
@@ -44,7 +43,8 @@ void LibcameraFisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
   requested_ = exposure;
 }
 
-bool LibcameraFisheyeSource::open_failed(const std::string& why) {
+// No device (a failed look or a lost one): say why, and look again reopen_ms from now.
+bool LibcameraFisheyeSource::no_device(const std::string& why) {
   state_ = SourceState::NoDevice;
   error_.set(why);
   reopen_.looked();
@@ -66,9 +66,9 @@ bool LibcameraFisheyeSource::try_open() {
     // At start-up a wrong size or format is the configuration's fault: say so at once. Once
     // running, the camera that came back may be another one: keep waiting for the right one.
     if (sequence_ == 0) throw;
-    return open_failed(e.what());
+    return no_device(e.what());
   } catch (const std::runtime_error& e) {  // DeviceError, or libcamera failing to start
-    return open_failed(e.what());
+    return no_device(e.what());
   }
   const StreamInfo& info = camera_->info();
   spdlog::info("{}: camera '{}' {} {}x{}, ExposureTime {}, AnalogueGain {}", name(), info.camera_id,
@@ -82,9 +82,7 @@ bool LibcameraFisheyeSource::try_open() {
 
 void LibcameraFisheyeSource::lose_device(const std::string& why) {
   camera_.reset();  // stops, frees and releases: the camera may come back under the same id
-  state_ = SourceState::NoDevice;
-  error_.set(why);
-  reopen_.looked();
+  no_device(why);
   spdlog::warn("{}: camera lost ({}); looking for it every {} ms", name(), why, options_.reopen_ms);
 }
 

@@ -46,7 +46,7 @@ class LibcameraFisheyeSource final : public FisheyeSource {
 
  private:
   bool try_open();
-  bool open_failed(const std::string& why);
+  bool no_device(const std::string& why);  // false, for try_open
   void lose_device(const std::string& why);
 
   LibcameraOptions options_;

@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <mutex>
 #include <thread>
 
 #include "drivers/usb/usb_hotplug.hpp"
@@ -79,7 +80,8 @@ std::string Openni2RgbdSource::last_error() const {
   return error_.get();
 }
 
-bool Openni2RgbdSource::open_failed(const std::string& why) {
+// No device (a failed look or a lost one): say why, and look again reopen_ms from now.
+bool Openni2RgbdSource::no_device(const std::string& why) {
   state_ = SourceState::NoDevice;
   error_.set(why);
   reopen_.looked();
@@ -92,12 +94,12 @@ bool Openni2RgbdSource::try_open() {
   try {
     camera_ = std::make_unique<Openni2Camera>(options_, runtime_);
   } catch (const DeviceMissing& e) {
-    return open_failed(e.what());
+    return no_device(e.what());
   } catch (const OpenniError& e) {
     // At start-up this is the configuration's fault: say so at once. Once running, the
     // device that came back may be another one: keep waiting for the right one.
     if (sequence_ == 0) throw;
-    return open_failed(e.what());
+    return no_device(e.what());
   }
   const CameraInfo& info = camera_->info();
   listener_->watch(info.uri);
@@ -119,9 +121,7 @@ bool Openni2RgbdSource::try_open() {
 void Openni2RgbdSource::lose_device(const std::string& why) {
   camera_.reset();
   listener_->watch({});
-  state_ = SourceState::NoDevice;
-  error_.set(why);
-  reopen_.looked();
+  no_device(why);
   spdlog::warn("{}: device lost ({}); looking for it every {} ms{}", name(), why,
                options_.reopen_ms, watcher_ ? " and on USB arrival" : "");
 }

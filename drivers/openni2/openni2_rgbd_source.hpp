@@ -44,7 +44,7 @@ class Openni2RgbdSource final : public RgbdSource {
  private:
   class DisconnectListener;
   bool try_open();
-  bool open_failed(const std::string& why);
+  bool no_device(const std::string& why);  // false, for try_open
   void lose_device(const std::string& why);
   void on_stall(TimestampNs now);
   TimestampNs to_monotonic(std::uint64_t device_us);

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 
 #include "drivers/v4l2/v4l2_camera.hpp"
 
@@ -37,7 +36,8 @@ void V4l2FisheyeSource::set_next_exposure(const ExposureStamp& exposure) {
   requested_ = exposure;
 }
 
-bool V4l2FisheyeSource::open_failed(const std::string& why) {
+// No device (a failed look or a lost one): say why, and look again reopen_ms from now.
+bool V4l2FisheyeSource::no_device(const std::string& why) {
   state_ = SourceState::NoDevice;
   error_.set(why);
   reopen_.looked();
@@ -48,12 +48,12 @@ bool V4l2FisheyeSource::try_open() {
   try {
     camera_ = std::make_unique<V4l2Camera>(options_);
   } catch (const DeviceError& e) {
-    return open_failed(e.what());
+    return no_device(e.what());
   } catch (const ConfigError& e) {
     // At start-up a wrong size or format is the configuration's fault: say so at once. Once
     // running, the device that came back may be another one: keep waiting for the right one.
     if (sequence_ == 0 && applied_.empty()) throw;
-    return open_failed(e.what());
+    return no_device(e.what());
   }
   const CaptureInfo& info = camera_->info();
   spdlog::info("{}: {} '{}' ({}) {} {}x{} at {:.2f} fps, exposure control {}, gain control {}",
@@ -71,9 +71,7 @@ bool V4l2FisheyeSource::try_open() {
 
 void V4l2FisheyeSource::lose_device(const std::string& why) {
   camera_.reset();  // stops streaming, unmaps, closes: the node may come back as a new one
-  state_ = SourceState::NoDevice;
-  error_.set(why);
-  reopen_.looked();
+  no_device(why);
   spdlog::warn("{}: device lost ({}); looking for it every {} ms", name(), why, options_.reopen_ms);
 }
 

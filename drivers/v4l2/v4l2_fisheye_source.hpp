@@ -47,7 +47,7 @@ class V4l2FisheyeSource final : public FisheyeSource {
     ExposureStamp stamp;
   };
   bool try_open();
-  bool open_failed(const std::string& why);
+  bool no_device(const std::string& why);  // false, for try_open
   void lose_device(const std::string& why);
   void apply_pending_exposure();
   ExposureStamp stamp_for(TimestampNs frame_ns) const;
