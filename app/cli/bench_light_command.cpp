@@ -23,7 +23,7 @@ namespace {
 struct Options {
   int frames = 120;
   std::string sim = "fisheye_size=1024";
-  int face_size = 128;
+  int face_size = 128;  // issue #5's bar (p50 <= 3 ms) is at 128; the service runs 192
   std::string json;
   bool room = false;  // parallax with the sim's room box
 };
@@ -124,7 +124,10 @@ void add_bench_light_command(CLI::App& bench) {
                   "waiting after each stage")
       ->capture_default_str();
   cmd->add_option("--sim", o->sim, "Sim options (after realtime=0)")->capture_default_str();
-  cmd->add_option("--face-size", o->face_size, "Keyframe face size")->capture_default_str();
+  cmd->add_option("--face-size", o->face_size,
+                  "Keyframe face size (issue #5's bar is at 128; the service's [light] "
+                  "face_size is 192)")
+      ->capture_default_str();
   cmd->add_flag("--room-box", o->room,
                 "Parallax with the sim's room box, SH reprojected to the object (as the "
                 "service with [light] room = \"sim\")");

@@ -285,7 +285,8 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
     return c;
   };
   const auto seen_from = [&](const Eigen::Vector3d& where) {
-    return envmap::reproject_keyframe(texels, keyframe->position, room, where, m, n / m);
+    return envmap::reproject_keyframe(texels, keyframe->position, room, where, m, n / m,
+                                      envmap::Resampling::CatmullRom);
   };
   std::vector<bool> unused;
   const envmap::ImageRGBAF est_keyframe = average_observed(texels, m, unused);

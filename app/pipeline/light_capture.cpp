@@ -238,7 +238,11 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
     colour_error_ = e.what();
   }
   try {
-    publish(frame);
+    const auto p0 = std::chrono::steady_clock::now();
+    if (publish(frame) && stats)
+      stats->record(
+          "light_publish",
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - p0).count());
   } catch (const std::exception& e) {
     fail(e.what());
     return false;
@@ -259,7 +263,7 @@ int LightCapture::fill_from_other_keyframes(envmap::ImageRGBAF& texels,
     Reprojected& r = reprojected_[k->id];
     if (r.texels.pixel_count() == 0 || r.updates != k->updates) {
       r.texels = envmap::reproject_keyframe(estimator_->light->download(*k), k->position, room_,
-                                            light_point_, n, 1);
+                                            light_point_, n, 1, envmap::Resampling::CatmullRom);
       r.updates = k->updates;
     }
     others.push_back(&r.texels);
@@ -285,11 +289,12 @@ void LightCapture::update_colour_exposure(const FisheyeFrame& frame) {
   fill_rgbd_ = std::move(rgbd);
 }
 
-void LightCapture::publish(const FisheyeFrame& frame) {
-  if (last_publish_ns_ != 0 && frame.timestamp_ns - last_publish_ns_ < kPublishIntervalNs) return;
+bool LightCapture::publish(const FisheyeFrame& frame) {
+  if (last_publish_ns_ != 0 && frame.timestamp_ns - last_publish_ns_ < kPublishIntervalNs)
+    return false;
   last_publish_ns_ = frame.timestamp_ns;
   const envmap::Keyframe* keyframe = estimator_->light->keyframes().nearest(anchor_);
-  if (!keyframe) return;
+  if (!keyframe) return false;
   int keyframe_filled_texels = 0;
   auto snap = std::make_shared<LightSnapshot>();
   snap->timestamp_ns = frame.timestamp_ns;
@@ -297,11 +302,15 @@ void LightCapture::publish(const FisheyeFrame& frame) {
   snap->position = keyframe->position;
   snap->texels = estimator_->light->download(*keyframe);
   if (room_) {
-    // The environment as the objects see it (docs/light-capture.md "Parallax"): one bilinear
-    // sample per texel at the keyframe's resolution, on the CPU at the publishing rate.
+    // The environment as the objects see it (docs/light-capture.md "Parallax"): one
+    // Catmull-Rom sample per texel at the keyframe's resolution, on the CPU at the publishing
+    // rate.
     const int n = envmap::face_size_of(snap->texels);
-    snap->texels =
-        envmap::reproject_keyframe(snap->texels, keyframe->position, room_, light_point_, n, 1);
+    if (mapped_keyframe_ != keyframe->id || !nearest_map_) {
+      nearest_map_.emplace(n, keyframe->position, room_, light_point_, n, 1);
+      mapped_keyframe_ = keyframe->id;
+    }
+    snap->texels = nearest_map_->apply(snap->texels, envmap::Resampling::CatmullRom);
     snap->position = light_point_;
     keyframe_filled_texels = fill_from_other_keyframes(snap->texels, *keyframe);
   }
@@ -326,6 +335,7 @@ void LightCapture::publish(const FisheyeFrame& frame) {
   keyframe_filled_texels_ = keyframe_filled_texels;
   snap->version = ++snapshot_version_;
   snapshot_ = std::move(snap);
+  return true;
 }
 
 std::shared_ptr<const LightSnapshot> LightCapture::latest_light() const {

@@ -22,6 +22,7 @@
 #include "core/frame.hpp"
 #include "core/sh.hpp"
 #include "kernels/envmap/envmap_types.hpp"
+#include "kernels/envmap/keyframe_reprojection.hpp"
 
 namespace probeless::envmap {
 struct Keyframe;
@@ -85,7 +86,8 @@ class LightCapture {
                                   const std::shared_ptr<const FrameTruth>& truth) const;
   void fail(const std::string& what);
   void update_colour_exposure(const FisheyeFrame& frame);
-  void publish(const FisheyeFrame& frame);
+  // Returns whether a snapshot was published (every kPublishIntervalNs of frame time).
+  bool publish(const FisheyeFrame& frame);
   int fill_from_other_keyframes(envmap::ImageRGBAF& texels, const envmap::Keyframe& nearest);
 
   ServiceConfig config_;
@@ -113,6 +115,10 @@ class LightCapture {
     envmap::ImageRGBAF texels;
   };
   std::map<int, Reprojected> reprojected_;
+  // Where the nearest keyframe's texels land at the light point (keyframes and the light point
+  // do not move): built when the nearest keyframe changes, applied at every publish.
+  int mapped_keyframe_ = -1;
+  std::optional<envmap::ReprojectionMap> nearest_map_;
   int keyframe_filled_texels_ = 0;
   bool want_rgbd_ = true;
   std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took

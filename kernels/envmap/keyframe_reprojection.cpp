@@ -1,6 +1,7 @@
 #include "kernels/envmap/keyframe_reprojection.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -18,52 +19,104 @@ ParallaxConstants reprojection_constants(const std::optional<RoomBox>& room,
   return c;
 }
 
-ImageRGBAF reproject_keyframe(const ImageRGBAF& texels, const Eigen::Vector3d& keyframe_position,
-                              const std::optional<RoomBox>& room, const Eigen::Vector3d& target,
-                              int m, int samples) {
-  const int n = face_size_of(texels);
-  if (texels.height() != 6 * n || m < 1 || samples < 1)
-    throw std::invalid_argument("reproject_keyframe: bad sizes");
+namespace {
+
+// Catmull-Rom weights of the taps at -1, 0, 1, 2 for a sample at t in [0, 1) past tap 0.
+std::array<float, 4> catmull_rom(float t) {
+  const float t2 = t * t, t3 = t2 * t;
+  return {0.5F * (-t3 + 2 * t2 - t), 0.5F * (3 * t3 - 5 * t2 + 2), 0.5F * (-3 * t3 + 4 * t2 + t),
+          0.5F * (t3 - t2)};
+}
+
+using Texel = Eigen::Array4f;
+
+}  // namespace
+
+ReprojectionMap::ReprojectionMap(int n, const Eigen::Vector3d& keyframe_position,
+                                 const std::optional<RoomBox>& room, const Eigen::Vector3d& target,
+                                 int m, int samples)
+    : n_(n), m_(m), samples_(samples) {
+  if (n < 1 || m < 1 || samples < 1) throw std::invalid_argument("reproject_keyframe: bad sizes");
   const ParallaxConstants p = reprojection_constants(room, keyframe_position, target);
   const float inv = 1.0F / static_cast<float>(m * samples);
-  ImageRGBAF out = make_texels(m);
+  taps_.reserve(static_cast<std::size_t>(6 * m * m * samples * samples));
   for (int row = 0; row < 6 * m; ++row) {
     const int face = row / m, y = row - face * m;
-    for (int x = 0; x < m; ++x) {
-      float sum[3] = {0, 0, 0};
-      bool all = true;
+    for (int x = 0; x < m; ++x)
       for (int j = 0; j < samples; ++j)
         for (int i = 0; i < samples; ++i) {
           const float u = (static_cast<float>(x * samples + i) + 0.5F) * inv;
           const float v = (static_cast<float>(y * samples + j) + 0.5F) * inv;
-          const Eigen::Vector3f w = parallax_direction(p, cube_face_direction(face, u, v));
-          const CubeCoord cc = cube_coord_of(w);
+          const CubeCoord cc =
+              cube_coord_of(parallax_direction(p, cube_face_direction(face, u, v)));
+          // Texel centres on integers.
           const float px = cc.u * static_cast<float>(n) - 0.5F;
           const float py = cc.v * static_cast<float>(n) - 0.5F;
-          const float x0f = std::floor(px), y0f = std::floor(py);
-          const float ax = px - x0f, ay = py - y0f;
-          const auto at = [&](float xf, float yf) {
-            const int xi = std::clamp(static_cast<int>(xf), 0, n - 1);
-            const int yi = std::clamp(static_cast<int>(yf), 0, n - 1);
-            return &texels.at(xi, cc.face * n + yi, 0);
-          };
-          const float *a = at(x0f, y0f), *b = at(x0f + 1.0F, y0f), *c = at(x0f, y0f + 1.0F),
-                      *e = at(x0f + 1.0F, y0f + 1.0F);
-          for (int ch = 0; ch < 3; ++ch) {
-            const float dab = b[ch] - a[ch], dce = e[ch] - c[ch];
-            const float top = a[ch] + ax * dab, bottom = c[ch] + ax * dce;
-            const float dv = bottom - top;
-            sum[ch] += top + ay * dv;
-          }
-          all = all && a[3] > 0.0F && (ax == 0.0F || b[3] > 0.0F) && (ay == 0.0F || c[3] > 0.0F) &&
-                (ax == 0.0F || ay == 0.0F || e[3] > 0.0F);
+          const float x0 = std::floor(px), y0 = std::floor(py);
+          taps_.push_back({cc.face, static_cast<int>(x0), static_cast<int>(y0), px - x0, py - y0});
         }
-      const float count = static_cast<float>(samples * samples);
-      for (int c = 0; c < 3; ++c) out.at(x, row, c) = sum[c] / count;
-      out.at(x, row, 3) = all ? 1.0F : 0.0F;
-    }
   }
+}
+
+ImageRGBAF ReprojectionMap::apply(const ImageRGBAF& texels, Resampling resampling) const {
+  if (face_size_of(texels) != n_ || texels.height() != 6 * n_)
+    throw std::invalid_argument("reproject_keyframe: the keyframe is not the map's size");
+  ImageRGBAF out = make_texels(m_);
+  const float* base = &texels.at(0, 0, 0);
+  const auto at = [&](int face, int x, int y) {
+    const int xi = std::clamp(x, 0, n_ - 1), yi = std::clamp(y, 0, n_ - 1);
+    return Eigen::Map<const Texel>(base + 4 * ((face * n_ + yi) * n_ + xi));
+  };
+  const float count = static_cast<float>(samples_ * samples_);
+  auto tap = taps_.begin();
+  for (int row = 0; row < 6 * m_; ++row)
+    for (int x = 0; x < m_; ++x) {
+      Texel sum = Texel::Zero();
+      bool all = true;
+      for (int s = 0; s < samples_ * samples_; ++s, ++tap) {
+        const Tap& t = *tap;
+        const Texel a = at(t.face, t.x0, t.y0), b = at(t.face, t.x0 + 1, t.y0);
+        const Texel c = at(t.face, t.x0, t.y0 + 1), d = at(t.face, t.x0 + 1, t.y0 + 1);
+        if (resampling == Resampling::Bilinear) {
+          const Texel top = a + t.ax * (b - a), bottom = c + t.ax * (d - c);
+          sum += top + t.ay * (bottom - top);
+        } else {
+          const std::array<float, 4> wx = catmull_rom(t.ax), wy = catmull_rom(t.ay);
+          Texel v = Texel::Zero();
+          if (t.x0 >= 1 && t.y0 >= 1 && t.x0 + 2 < n_ && t.y0 + 2 < n_) {  // no clamping
+            const float* p = base + 4 * ((t.face * n_ + t.y0 - 1) * n_ + t.x0 - 1);
+            for (int j = 0; j < 4; ++j, p += 4 * n_) {
+              Texel line = Texel::Zero();
+              for (int i = 0; i < 4; ++i) line += wx[i] * Eigen::Map<const Texel>(p + 4 * i);
+              v += wy[j] * line;
+            }
+          } else {
+            for (int j = 0; j < 4; ++j) {
+              Texel line = Texel::Zero();
+              for (int i = 0; i < 4; ++i) line += wx[i] * at(t.face, t.x0 - 1 + i, t.y0 - 1 + j);
+              v += wy[j] * line;
+            }
+          }
+          // Within the bilinear footprint's range: no ringing around a lamp (radiance < 0 or
+          // a halo brighter than the lamp).
+          sum += v.max(a.min(b).min(c.min(d))).min(a.max(b).max(c.max(d)));
+        }
+        all = all && a[3] > 0.0F && (t.ax == 0.0F || b[3] > 0.0F) &&
+              (t.ay == 0.0F || c[3] > 0.0F) && (t.ax == 0.0F || t.ay == 0.0F || d[3] > 0.0F);
+      }
+      float* o = &out.at(x, row, 0);
+      for (int ch = 0; ch < 3; ++ch) o[ch] = sum[ch] / count;
+      o[3] = all ? 1.0F : 0.0F;
+    }
   return out;
+}
+
+ImageRGBAF reproject_keyframe(const ImageRGBAF& texels, const Eigen::Vector3d& keyframe_position,
+                              const std::optional<RoomBox>& room, const Eigen::Vector3d& target,
+                              int m, int samples, Resampling resampling) {
+  const int n = face_size_of(texels);
+  if (texels.height() != 6 * n) throw std::invalid_argument("reproject_keyframe: bad sizes");
+  return ReprojectionMap(n, keyframe_position, room, target, m, samples).apply(texels, resampling);
 }
 
 int fill_unobserved(ImageRGBAF& target, const std::vector<const ImageRGBAF*>& others) {

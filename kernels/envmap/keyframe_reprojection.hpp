@@ -20,17 +20,50 @@ ParallaxConstants reprojection_constants(const std::optional<RoomBox>& room,
                                          const Eigen::Vector3d& keyframe_position,
                                          const Eigen::Vector3d& target);
 
+// How a keyframe is sampled between its texel centres.
+enum class Resampling {
+  // The four nearest texels. A point nearer the object than the keyframe (the sim's window:
+  // 1.9 m from the object, 3.6 m from the keyframe) is magnified, and nearest lookups shifted
+  // its structure by up to half a keyframe texel (eval light at the object: 0.079 nearest,
+  // 0.071 bilinear).
+  Bilinear,
+  // Catmull-Rom on the 4 x 4 nearest, clamped to the four nearest's range (no ringing around
+  // a lamp). Bilinear's tent blurs the edges of the lamps, which hold most of a chrome
+  // sphere's error: `eval render`'s sphere 0.131 -> 0.122 at 128 px faces, 0.103 -> 0.095 at
+  // 192 (seed 1, 2026-11-26).
+  CatmullRom,
+};
+
 // texels: a keyframe (n x 6n). Returns m x 6m texels, each the mean of samples x samples
-// sub-texel directions from `target`, each box-projected and sampled bilinearly in the
-// keyframe (within its face, clamped at the edges). Bilinear rather than nearest: a point
-// nearer the object than the keyframe (the sim's window: 1.9 m from the object, 3.6 m from
-// the keyframe) is magnified, and nearest lookups shifted its structure by up to half a
-// keyframe texel (eval light at the object: 0.079 nearest, 0.071 bilinear). alpha 1 when every
-// keyframe texel with a weight was observed (alpha > 0), else 0; filled texels still give
-// their rgb (the SH needs the whole sphere).
+// sub-texel directions from `target`, each box-projected and sampled in the keyframe (within
+// its face, clamped at the edges). alpha 1 when every keyframe texel of the bilinear
+// footprint with a weight was observed (alpha > 0), else 0; filled texels still give their
+// rgb (the SH needs the whole sphere).
 ImageRGBAF reproject_keyframe(const ImageRGBAF& texels, const Eigen::Vector3d& keyframe_position,
                               const std::optional<RoomBox>& room, const Eigen::Vector3d& target,
-                              int m, int samples);
+                              int m, int samples, Resampling resampling);
+
+// reproject_keyframe in two halves: where each texel's samples land in the keyframe depends
+// only on the two positions and the room, not on the texels, so the service builds it once
+// per keyframe and applies it at every publish (at 192 px faces the geometry, built every
+// publish, was most of a 41 ms reprojection).
+class ReprojectionMap {
+ public:
+  // For a keyframe of n px faces; throws std::invalid_argument on sizes < 1.
+  ReprojectionMap(int n, const Eigen::Vector3d& keyframe_position,
+                  const std::optional<RoomBox>& room, const Eigen::Vector3d& target, int m,
+                  int samples);
+  // texels: n x 6n, else std::invalid_argument.
+  ImageRGBAF apply(const ImageRGBAF& texels, Resampling resampling) const;
+
+ private:
+  struct Tap {
+    int face, x0, y0;  // the bilinear footprint's top-left texel (may be -1 or n - 1)
+    float ax, ay;      // the sample's offset from it
+  };
+  int n_, m_, samples_;
+  std::vector<Tap> taps_;  // samples^2 per texel, in texel order
+};
 
 // Texels of `target` with alpha 0 (the keyframe it came from never observed them from the
 // target's position) take the mean of those `others` (same size, reprojected to the same

@@ -6,18 +6,20 @@
 namespace probeless::eval {
 namespace {
 
-// Issue #6's lamp bar: after the sim's lamp switch the diffuse objects lit by the captured
-// light are within 10 % of the truth within 0.5 s; before it they match too. The chrome sphere
-// is held near what it measures today (0.139 at this 1.5 s orbit, 0.24 before L exposed the
-// window's clouds unclipped; the bar of 0.10 is not met at 128 px faces, docs/light-capture.md),
-// its lower half to the colour camera's fill (0.25; 0.53 without it), objects (0.18) and shadow
-// (0.006; 0.06 with the clouds clipped) likewise, so a regression shows.
+// Issue #6's bars on the sim, as `probeless eval render` measures them (the run is
+// deterministic: the same numbers under load). After the sim's lamp switch the diffuse objects
+// lit by the captured light are within 10 % of the truth within 0.5 s, and match before it.
+// The chrome sphere, after the issue's 2 s of orbit, within 10 % relative RMSE of the truth:
+// 0.095 with 192 px faces and Catmull-Rom reprojection (0.122 at 128, 0.24 before L exposed
+// the window's clouds unclipped; docs/light-capture.md). Its lower half is held to the colour
+// camera's fill (0.25; 0.53 without it), objects (0.096) and shadow (0.002; 0.06 with the
+// clouds clipped) near what they measure, so a regression shows.
 TEST(EvalRender, ObjectsFollowTheLampSwitch) {
   RenderEvalOptions o;
-  o.orbit_s = 1.5;
+  o.orbit_s = 2.0;
   o.after_switch_s = 1.0;
   const RenderEvalReport r = evaluate_render_sim(o);
-  EXPECT_EQ(r.fisheye_frames, 75);
+  EXPECT_EQ(r.fisheye_frames, 90);
   EXPECT_GE(r.snapshots, 8);  // 4 Hz
   EXPECT_LT(r.compare_t_s, r.switch_t_s);
   ASSERT_TRUE(r.lamp_response_s.has_value());
@@ -29,10 +31,10 @@ TEST(EvalRender, ObjectsFollowTheLampSwitch) {
   EXPECT_GT(r.object_pixels, 1000);
   EXPECT_GT(r.shadow_pixels, 500);
   EXPECT_LT(r.shadow_mean_truth, 0) << "a shadow darkens";
-  EXPECT_LT(r.shadow_rel_error, 0.03);
-  EXPECT_LT(r.object_rel_error, 0.25);
+  EXPECT_LT(r.shadow_rel_error, 0.01);
+  EXPECT_LT(r.object_rel_error, 0.15);
   EXPECT_GT(r.sphere_pixels, 30000);
-  EXPECT_LT(r.sphere_rel_rmse, 0.18);
+  EXPECT_LT(r.sphere_rel_rmse, 0.10) << "issue #6's chrome-sphere bar";
   EXPECT_LT(r.sphere_rel_rmse_lower, 0.30) << "the table below the horizon";
 }
 

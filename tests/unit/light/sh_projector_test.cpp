@@ -53,8 +53,8 @@ TEST(ShProjector, ReprojectedTableEqualsTheSHOfTheReprojection) {
   const envmap::ParallaxConstants p = envmap::reprojection_constants(room, k, object);
   ASSERT_TRUE(p.enabled);
   const ShRgb got = ShProjector(m, p, 4).project(faces);
-  const ShRgb want =
-      project_sh(envmap::to_cubemap(envmap::reproject_keyframe(faces, k, room, object, m, 4)));
+  const ShRgb want = project_sh(envmap::to_cubemap(
+      envmap::reproject_keyframe(faces, k, room, object, m, 4, envmap::Resampling::Bilinear)));
   const ShRgb plain = ShProjector(m).project(faces);
   double diff = 0, moved = 0;
   for (int i = 0; i < kShMaxCount; ++i)
