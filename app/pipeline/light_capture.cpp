@@ -33,6 +33,9 @@ constexpr TimestampNs kColourExposureIntervalNs = 250'000'000;
 // The SH of a snapshot come from the keyframe box-averaged to this face size (as
 // LightEstimatorConfig::sh_face_size: 5 bands need far fewer texels than 128 px faces).
 constexpr int kShFaceSize = 32;
+// The other keyframes only fill what the nearest did not observe: bilinear there, at 0.4x
+// Catmull-Rom's cost, measured the same (`eval render` seeds 1-3, 2026-11-26).
+constexpr envmap::Resampling kOtherKeyframesResampling = envmap::Resampling::Bilinear;
 
 envmap::ImageRGBAF box_average(const envmap::ImageRGBAF& texels, int m) {
   const int n = envmap::face_size_of(texels);
@@ -87,6 +90,7 @@ struct LightCapture::Estimator {
   std::unique_ptr<light::LightEstimator> light;
   std::unique_ptr<ColourExposureEstimator> colour;
   std::unique_ptr<light::ShProjector> sh;
+  light::ColourFill colour_fill;  // its buffers live between snapshots
 };
 
 LightCapture::LightCapture(const ServiceConfig& config, const RigCalibration& calibration)
@@ -254,16 +258,24 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
 // (envmap::fill_unobserved): measured with `eval render` on the sim (2 s orbit), the band of
 // window just above the object's horizon was 80 % of the chrome sphere's error. The others
 // hold the light of when the rig was last near them, so they fill only unobserved texels.
+const envmap::ReprojectionMap& LightCapture::reprojection_map(const envmap::Keyframe& keyframe) {
+  Reprojected& r = reprojected_[keyframe.id];
+  if (!r.map) {
+    const int n = config_.light_face_size;
+    r.map.emplace(n, keyframe.position, room_, light_point_, n, 1);
+  }
+  return *r.map;
+}
+
 int LightCapture::fill_from_other_keyframes(envmap::ImageRGBAF& texels,
                                             const envmap::Keyframe& nearest) {
-  const int n = envmap::face_size_of(texels);
   std::vector<const envmap::ImageRGBAF*> others;
   for (const auto& k : estimator_->light->keyframes().keyframes()) {
     if (k->id == nearest.id || k->updates == 0) continue;
+    const envmap::ReprojectionMap& map = reprojection_map(*k);
     Reprojected& r = reprojected_[k->id];
     if (r.texels.pixel_count() == 0 || r.updates != k->updates) {
-      r.texels = envmap::reproject_keyframe(estimator_->light->download(*k), k->position, room_,
-                                            light_point_, n, 1, envmap::Resampling::CatmullRom);
+      r.texels = map.apply(estimator_->light->download(*k), kOtherKeyframesResampling);
       r.updates = k->updates;
     }
     others.push_back(&r.texels);
@@ -305,12 +317,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
     // The environment as the objects see it (docs/light-capture.md "Parallax"): one
     // Catmull-Rom sample per texel at the keyframe's resolution, on the CPU at the publishing
     // rate.
-    const int n = envmap::face_size_of(snap->texels);
-    if (mapped_keyframe_ != keyframe->id || !nearest_map_) {
-      nearest_map_.emplace(n, keyframe->position, room_, light_point_, n, 1);
-      mapped_keyframe_ = keyframe->id;
-    }
-    snap->texels = nearest_map_->apply(snap->texels, envmap::Resampling::CatmullRom);
+    snap->texels = reprojection_map(*keyframe).apply(snap->texels, envmap::Resampling::CatmullRom);
     snap->position = light_point_;
     keyframe_filled_texels = fill_from_other_keyframes(snap->texels, *keyframe);
   }
@@ -319,7 +326,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
       estimator_->colour->estimate().valid) {
     // Below the fisheye's horizon, the colour camera's view (app/light/colour_fill.hpp).
     if (const auto T_world_rig = rig_pose_at(fill_rgbd_->timestamp_ns, fill_rgbd_->truth)) {
-      const auto filled = light::fill_from_colour(
+      const auto filled = estimator_->colour_fill.fill(
           snap->texels, snap->position, *fill_rgbd_, calibration_.rgb.intrinsics(),
           *T_world_rig * calibration_.T_rig_rgb, estimator_->colour->estimate().e);
       filled_texels = filled.filled_texels;

@@ -108,17 +108,17 @@ class LightCapture {
   Eigen::Vector3d anchor_ = Eigen::Vector3d::Zero();       // the objects' mean position
   Eigen::Vector3d light_point_ = Eigen::Vector3d::Zero();  // 10 cm above it
   std::optional<envmap::RoomBox> room_;                    // [light] room
-  // The other keyframes reprojected to the light point, by id, with their update count when
-  // reprojected: only the active keyframe changes, so the others are reprojected once.
+  // Per keyframe id, where its texels land at the light point (keyframes and the light point
+  // do not move, so it is built once) and, for the keyframes other than the nearest, their
+  // reprojected texels with the update count they were made at: only the active keyframe
+  // changes, so the others are reprojected again only after the rig was near them.
   struct Reprojected {
+    std::optional<envmap::ReprojectionMap> map;
     std::uint64_t updates = 0;
     envmap::ImageRGBAF texels;
   };
   std::map<int, Reprojected> reprojected_;
-  // Where the nearest keyframe's texels land at the light point (keyframes and the light point
-  // do not move): built when the nearest keyframe changes, applied at every publish.
-  int mapped_keyframe_ = -1;
-  std::optional<envmap::ReprojectionMap> nearest_map_;
+  const envmap::ReprojectionMap& reprojection_map(const envmap::Keyframe& keyframe);
   int keyframe_filled_texels_ = 0;
   bool want_rgbd_ = true;
   std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took
