@@ -66,6 +66,30 @@ TEST(ColourFill, UnobservedTexelsBelowTakeTheFloorsRadiance) {
   EXPECT_EQ(up[3], 0);
 }
 
+// The service keeps one ColourFill and its buffers between snapshots: a fill after others (a
+// brighter floor, another face size) gives exactly what a fresh fill gives, nothing of the
+// earlier calls' sums left behind.
+TEST(ColourFill, AKeptFillerForgetsThePreviousSnapshot) {
+  const FloorView dark(60), bright(200);
+  const Eigen::Vector3d e(2, 3, 4), where(0, 0, 0.1);
+  ColourFill kept;
+  envmap::ImageRGBAF warmup = envmap::make_texels(64);
+  kept.fill(warmup, where, bright.frame, bright.k, bright.T_world_camera, e);
+  envmap::ImageRGBAF again = envmap::make_texels(32), fresh = envmap::make_texels(32);
+  kept.fill(again, where, bright.frame, bright.k, bright.T_world_camera, e);
+  again = envmap::make_texels(32);
+  const ColourFillStats a = kept.fill(again, where, dark.frame, dark.k, dark.T_world_camera, e);
+  const ColourFillStats b =
+      fill_from_colour(fresh, where, dark.frame, dark.k, dark.T_world_camera, e);
+  EXPECT_EQ(a.samples, b.samples);
+  EXPECT_EQ(a.filled_texels, b.filled_texels);
+  EXPECT_GT(a.filled_texels, 0);
+  for (int y = 0; y < fresh.height(); ++y)
+    for (int x = 0; x < fresh.width(); ++x)
+      for (int c = 0; c < 4; ++c) ASSERT_EQ(again.at(x, y, c), fresh.at(x, y, c)) << x << " " << y;
+  EXPECT_THROW(ColourFill(ColourFillParams{.stride = 0}), std::invalid_argument);
+}
+
 // Clipped colour only bounds the radiance from below: where it is, the fisheye's value stays
 // (below the horizon too) and nothing is filled. A pixel without depth has no point.
 TEST(ColourFill, SaturatedAndDepthlessPixelsAreSkipped) {
