@@ -254,10 +254,8 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
   return true;
 }
 
-// What the nearest keyframe never observed from the light point, from the keyframes that did
-// (envmap::fill_unobserved): measured with `eval render` on the sim (2 s orbit), the band of
-// window just above the object's horizon was 80 % of the chrome sphere's error. The others
-// hold the light of when the rig was last near them, so they fill only unobserved texels.
+// Keyframes and the light point do not move: a keyframe's map is built the first time it is
+// reprojected (15 ms at 192 px faces) and kept.
 const envmap::ReprojectionMap& LightCapture::reprojection_map(const envmap::Keyframe& keyframe) {
   Reprojected& r = reprojected_[keyframe.id];
   if (!r.map) {
@@ -267,6 +265,10 @@ const envmap::ReprojectionMap& LightCapture::reprojection_map(const envmap::Keyf
   return *r.map;
 }
 
+// What the nearest keyframe never observed from the light point, from the keyframes that did
+// (envmap::fill_unobserved): measured with `eval render` on the sim (2 s orbit), the band of
+// window just above the object's horizon was 80 % of the chrome sphere's error. The others
+// hold the light of when the rig was last near them, so they fill only unobserved texels.
 int LightCapture::fill_from_other_keyframes(envmap::ImageRGBAF& texels,
                                             const envmap::Keyframe& nearest) {
   std::vector<const envmap::ImageRGBAF*> others;
