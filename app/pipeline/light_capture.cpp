@@ -256,13 +256,13 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
 
 // Keyframes and the light point do not move: a keyframe's map is built the first time it is
 // reprojected (15 ms at 192 px faces) and kept.
-const envmap::ReprojectionMap& LightCapture::reprojection_map(const envmap::Keyframe& keyframe) {
+LightCapture::Reprojected& LightCapture::reprojected(const envmap::Keyframe& keyframe) {
   Reprojected& r = reprojected_[keyframe.id];
   if (!r.map) {
     const int n = config_.light_face_size;
     r.map.emplace(n, keyframe.position, room_, light_point_, n, 1);
   }
-  return *r.map;
+  return r;
 }
 
 // What the nearest keyframe never observed from the light point, from the keyframes that did
@@ -274,10 +274,9 @@ int LightCapture::fill_from_other_keyframes(envmap::ImageRGBAF& texels,
   std::vector<const envmap::ImageRGBAF*> others;
   for (const auto& k : estimator_->light->keyframes().keyframes()) {
     if (k->id == nearest.id || k->updates == 0) continue;
-    const envmap::ReprojectionMap& map = reprojection_map(*k);
-    Reprojected& r = reprojected_[k->id];
+    Reprojected& r = reprojected(*k);
     if (r.texels.pixel_count() == 0 || r.updates != k->updates) {
-      r.texels = map.apply(estimator_->light->download(*k), kOtherKeyframesResampling);
+      r.texels = r.map->apply(estimator_->light->download(*k), kOtherKeyframesResampling);
       r.updates = k->updates;
     }
     others.push_back(&r.texels);
@@ -319,7 +318,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
     // The environment as the objects see it (docs/light-capture.md "Parallax"): one
     // Catmull-Rom sample per texel at the keyframe's resolution, on the CPU at the publishing
     // rate.
-    snap->texels = reprojection_map(*keyframe).apply(snap->texels, envmap::Resampling::CatmullRom);
+    snap->texels = reprojected(*keyframe).map->apply(snap->texels, envmap::Resampling::CatmullRom);
     snap->position = light_point_;
     keyframe_filled_texels = fill_from_other_keyframes(snap->texels, *keyframe);
   }

@@ -118,7 +118,7 @@ class LightCapture {
     envmap::ImageRGBAF texels;
   };
   std::map<int, Reprojected> reprojected_;
-  const envmap::ReprojectionMap& reprojection_map(const envmap::Keyframe& keyframe);
+  Reprojected& reprojected(const envmap::Keyframe& keyframe);  // with its map built
   int keyframe_filled_texels_ = 0;
   bool want_rgbd_ = true;
   std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took

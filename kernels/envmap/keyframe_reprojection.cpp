@@ -83,19 +83,10 @@ ImageRGBAF ReprojectionMap::apply(const ImageRGBAF& texels, Resampling resamplin
         } else {
           const std::array<float, 4> wx = catmull_rom(t.ax), wy = catmull_rom(t.ay);
           Texel v = Texel::Zero();
-          if (t.x0 >= 1 && t.y0 >= 1 && t.x0 + 2 < n_ && t.y0 + 2 < n_) {  // no clamping
-            const float* p = base + 4 * ((t.face * n_ + t.y0 - 1) * n_ + t.x0 - 1);
-            for (int j = 0; j < 4; ++j, p += 4 * n_) {
-              Texel line = Texel::Zero();
-              for (int i = 0; i < 4; ++i) line += wx[i] * Eigen::Map<const Texel>(p + 4 * i);
-              v += wy[j] * line;
-            }
-          } else {
-            for (int j = 0; j < 4; ++j) {
-              Texel line = Texel::Zero();
-              for (int i = 0; i < 4; ++i) line += wx[i] * at(t.face, t.x0 - 1 + i, t.y0 - 1 + j);
-              v += wy[j] * line;
-            }
+          for (int j = 0; j < 4; ++j) {
+            Texel line = Texel::Zero();
+            for (int i = 0; i < 4; ++i) line += wx[i] * at(t.face, t.x0 - 1 + i, t.y0 - 1 + j);
+            v += wy[j] * line;
           }
           // Within the bilinear footprint's range: no ringing around a lamp (radiance < 0 or
           // a halo brighter than the lamp).
