@@ -27,6 +27,12 @@ trap cleanup EXIT
 cpack --config "$build/CPackConfig.cmake" -B "$scratch/deb" >/dev/null
 deb=$(ls "$scratch"/deb/probeless_*.deb)
 echo "package: $(basename "$deb") ($(du -h "$deb" | cut -f1))"
+# The appliance package needs no OpenCV; the lab's package carries it (issue #16).
+ls "$scratch"/deb/probeless-lab_*.deb >/dev/null || { echo "FAIL: no probeless-lab package"; exit 1; }
+if dpkg-deb -f "$deb" Depends | grep -i opencv; then
+  echo "FAIL: the appliance package depends on OpenCV"; exit 1
+fi
+dpkg-deb -c "$deb" | grep -q probeless-lab && { echo "FAIL: the lab binary is in the appliance package"; exit 1; }
 
 if ! debootstrap --variant=minbase bookworm "$root" "$mirror" >"$scratch/debootstrap.log" 2>&1; then
   tail -3 "$scratch/debootstrap.log"
@@ -53,6 +59,9 @@ for f in /usr/bin/probeless /usr/lib/systemd/system/probeless.service \
   /etc/probeless/probeless.toml; do
   [[ -e $root$f ]] || { echo "FAIL: $f not installed"; exit 1; }
 done
+if chroot "$root" ldd /usr/bin/probeless | grep -i opencv; then
+  echo "FAIL: the installed service links OpenCV"; exit 1
+fi
 [[ -L $root/etc/systemd/system/multi-user.target.wants/probeless.service ]] ||
   { echo "FAIL: the service is not enabled"; exit 1; }
 

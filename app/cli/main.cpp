@@ -1,4 +1,5 @@
-// probeless: the command line. Commands register themselves (app/cli/commands.hpp); errors
+// probeless: the appliance's command line (the lab's `eval` and `bench` are handed on to
+// probeless-lab, lab/cli/main.cpp). Commands register themselves (app/cli/commands.hpp); errors
 // become exceptions that are caught here, once, and printed with their context.
 #include <spdlog/spdlog.h>
 
@@ -6,9 +7,15 @@
 #include <exception>
 
 #include "app/cli/commands.hpp"
+#include "app/cli/lab_dispatch.hpp"
 #include "app/cli/logging.hpp"
 
 int main(int argc, char** argv) {
+  if (const auto lab = probeless::cli::lab_command(argc, argv)) {
+    const std::string why = probeless::cli::exec_lab(argv, *lab);  // returns only on failure
+    spdlog::error("{}", why);
+    return 1;
+  }
   CLI::App app{"probeless: headless mixed-reality appliance service"};
   app.require_subcommand(1);
   std::string log_level = "info";
@@ -17,21 +24,11 @@ int main(int argc, char** argv) {
   probeless::cli::add_run_command(app);
   probeless::cli::add_record_command(app);
   probeless::cli::add_devices_command(app);
-  auto* bench = app.add_subcommand("bench", "Benchmarks that print numbers");
-  bench->require_subcommand(1);
-  probeless::cli::add_bench_sim_command(*bench);
-  probeless::cli::add_bench_pipeline_command(*bench);
-  probeless::cli::add_bench_composite_command(*bench);
-  probeless::cli::add_bench_occlusion_command(*bench);
-  probeless::cli::add_bench_light_command(*bench);
-  auto* eval = app.add_subcommand("eval", "Evaluations against ground truth");
-  eval->require_subcommand(1);
-  probeless::cli::add_eval_occlusion_command(*eval);
-  probeless::cli::add_eval_hdr_command(*eval);
-  probeless::cli::add_eval_light_command(*eval);
-  probeless::cli::add_eval_render_command(*eval);
-  probeless::cli::add_eval_sh_command(*eval);
-
+  // Listed for --help; lab_command() hands them to the lab binary before parsing.
+  app.add_subcommand("bench", "Benchmarks that print numbers (the lab: probeless-lab)")
+      ->allow_extras();
+  app.add_subcommand("eval", "Evaluations against ground truth (the lab: probeless-lab)")
+      ->allow_extras();
   app.parse_complete_callback([&] { probeless::cli::setup_logging(log_level.c_str()); });
   try {
     app.parse(argc, argv);

@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "app/eval/method_set.hpp"
+#include "lab/eval/method_set.hpp"
 #include "app/pipeline/scene_objects.hpp"
 
 namespace probeless {

@@ -1,7 +1,7 @@
 // The light estimator end to end on the synthetic rig (docs/light-capture.md "eval light").
 #include <gtest/gtest.h>
 
-#include "app/light/light_eval.hpp"
+#include "lab/eval/light_eval.hpp"
 
 namespace probeless::light {
 namespace {

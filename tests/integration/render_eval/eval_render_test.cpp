@@ -1,7 +1,7 @@
 // `probeless eval render` end to end on the sim (docs/rendering.md "eval render").
 #include <gtest/gtest.h>
 
-#include "app/eval/render_eval.hpp"
+#include "lab/eval/render_eval.hpp"
 
 namespace probeless::eval {
 namespace {

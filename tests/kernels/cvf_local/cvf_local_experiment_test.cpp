@@ -13,8 +13,8 @@
 #include <map>
 #include <string>
 
-#include "app/eval/matte_metrics.hpp"
-#include "app/eval/occlusion_eval.hpp"
+#include "lab/eval/matte_metrics.hpp"
+#include "lab/eval/occlusion_eval.hpp"
 #include "drivers/io/png.hpp"
 #include "kernels/occlusion/bilateral_matte_reference.hpp"
 #include "kernels/occlusion/categorise_reference.hpp"

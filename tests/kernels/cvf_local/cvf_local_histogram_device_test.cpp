@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <random>
 
-#include "app/eval/method_set.hpp"
+#include "lab/eval/method_set.hpp"
 #include "kernels/occlusion/categorise_reference.hpp"
 #include "kernels/occlusion/cvf_local_histogram.hpp"
 #include "support/cl_context.hpp"

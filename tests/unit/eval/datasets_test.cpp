@@ -4,10 +4,10 @@
 
 #include <fstream>
 
-#include "app/eval/alphamatting_dataset.hpp"
-#include "app/eval/frames_dataset.hpp"
-#include "app/eval/middlebury_dataset.hpp"
-#include "app/eval/occlusion_eval.hpp"
+#include "lab/eval/alphamatting_dataset.hpp"
+#include "lab/eval/frames_dataset.hpp"
+#include "lab/eval/middlebury_dataset.hpp"
+#include "lab/eval/occlusion_eval.hpp"
 #include "drivers/io/pfm.hpp"
 #include "drivers/io/png.hpp"
 #include "support/test_data.hpp"

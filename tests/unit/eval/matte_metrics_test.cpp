@@ -1,5 +1,5 @@
 // The evaluator's metrics on hand-made mattes with known answers.
-#include "app/eval/matte_metrics.hpp"
+#include "lab/eval/matte_metrics.hpp"
 
 #include <gtest/gtest.h>
 

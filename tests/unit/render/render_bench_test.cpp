@@ -2,7 +2,7 @@
 // has a command for it (docs/rendering.md, docs/performance.md):
 //   build/release/tests/test_unit_render --gtest_also_run_disabled_tests
 //       --gtest_filter='*DISABLED_Bench*'
-#include "app/render/render_bench.hpp"
+#include "lab/bench/render_bench.hpp"
 
 #include <gtest/gtest.h>
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "app/eval/eval_case.hpp"
-#include "app/eval/method_set.hpp"
+#include "lab/eval/eval_case.hpp"
+#include "lab/eval/method_set.hpp"
 #include "kernels/runtime/compute_context.hpp"
 
 namespace probeless::eval {

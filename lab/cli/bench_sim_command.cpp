@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "app/cli/commands.hpp"
+#include "lab/cli/lab_commands.hpp"
 #include "app/pipeline/stage_stats.hpp"
 #include "drivers/sim/sim_rig.hpp"
 

@@ -10,7 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "app/cli/commands.hpp"
+#include "lab/cli/lab_commands.hpp"
 #include "drivers/bracket/bracket_simulation.hpp"
 #include "drivers/io/hdr_image.hpp"
 

@@ -7,8 +7,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "app/cli/commands.hpp"
-#include "app/light/light_eval.hpp"
+#include "lab/cli/lab_commands.hpp"
+#include "lab/eval/light_eval.hpp"
 
 namespace probeless::cli {
 namespace {

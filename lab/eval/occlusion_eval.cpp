@@ -1,4 +1,4 @@
-#include "app/eval/occlusion_eval.hpp"
+#include "lab/eval/occlusion_eval.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -6,11 +6,11 @@
 #include <algorithm>
 #include <stdexcept>
 
-#include "app/eval/alphamatting_dataset.hpp"
-#include "app/eval/eval_plots.hpp"
-#include "app/eval/frames_dataset.hpp"
-#include "app/eval/matte_metrics.hpp"
-#include "app/eval/middlebury_dataset.hpp"
+#include "lab/eval/alphamatting_dataset.hpp"
+#include "lab/eval/eval_plots.hpp"
+#include "lab/eval/frames_dataset.hpp"
+#include "lab/eval/matte_metrics.hpp"
+#include "lab/eval/middlebury_dataset.hpp"
 
 namespace probeless::eval {
 namespace fs = std::filesystem;

@@ -11,7 +11,7 @@
 #include <iostream>
 #include <random>
 
-#include "app/cli/commands.hpp"
+#include "lab/cli/lab_commands.hpp"
 #include "app/pipeline/stage_stats.hpp"
 #include "kernels/composite/compositor.hpp"
 #include "kernels/composite/hdr_compositor.hpp"

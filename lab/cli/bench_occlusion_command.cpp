@@ -14,10 +14,10 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
-#include "app/cli/commands.hpp"
-#include "app/eval/cvf_opencv_reference.hpp"
-#include "app/eval/matte_metrics.hpp"
-#include "app/eval/middlebury_dataset.hpp"
+#include "lab/cli/lab_commands.hpp"
+#include "lab/eval/cvf_opencv_reference.hpp"
+#include "lab/eval/matte_metrics.hpp"
+#include "lab/eval/middlebury_dataset.hpp"
 #include "kernels/occlusion/cvf_matte.hpp"
 #include "kernels/occlusion/cvf_reference.hpp"
 

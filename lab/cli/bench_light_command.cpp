@@ -10,7 +10,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "app/cli/commands.hpp"
+#include "lab/cli/lab_commands.hpp"
 #include "app/light/light_estimator.hpp"
 #include "app/light/room_proxy.hpp"
 #include "core/exposure_count.hpp"

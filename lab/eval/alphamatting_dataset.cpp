@@ -1,4 +1,4 @@
-#include "app/eval/alphamatting_dataset.hpp"
+#include "lab/eval/alphamatting_dataset.hpp"
 
 #include <algorithm>
 

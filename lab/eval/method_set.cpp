@@ -1,4 +1,4 @@
-#include "app/eval/method_set.hpp"
+#include "lab/eval/method_set.hpp"
 
 #include <stdexcept>
 

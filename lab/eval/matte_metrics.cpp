@@ -1,4 +1,4 @@
-#include "app/eval/matte_metrics.hpp"
+#include "lab/eval/matte_metrics.hpp"
 
 #include <algorithm>
 #include <cmath>

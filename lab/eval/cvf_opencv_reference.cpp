@@ -1,4 +1,4 @@
-#include "app/eval/cvf_opencv_reference.hpp"
+#include "lab/eval/cvf_opencv_reference.hpp"
 
 #include <algorithm>
 #include <opencv2/imgproc.hpp>

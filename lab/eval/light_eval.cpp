@@ -1,4 +1,4 @@
-#include "app/light/light_eval.hpp"
+#include "lab/eval/light_eval.hpp"
 
 #include <spdlog/spdlog.h>
 

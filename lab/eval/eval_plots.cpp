@@ -1,4 +1,4 @@
-#include "app/eval/eval_plots.hpp"
+#include "lab/eval/eval_plots.hpp"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 #include <cmath>
 #include <map>
 
-#include "app/eval/occlusion_eval.hpp"
+#include "lab/eval/occlusion_eval.hpp"
 #include "drivers/io/png.hpp"
 
 namespace probeless::eval {

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "app/eval/eval_case.hpp"
+#include "lab/eval/eval_case.hpp"
 
 namespace probeless::eval {
 

@@ -9,7 +9,7 @@
 #include <string_view>
 #include <thread>
 
-#include "app/cli/commands.hpp"
+#include "lab/cli/lab_commands.hpp"
 #include "app/pipeline/pipeline.hpp"
 #include "app/pipeline/stage_stats.hpp"
 #include "drivers/rig_factory.hpp"

@@ -1,4 +1,4 @@
-#include "app/eval/render_eval.hpp"
+#include "lab/eval/render_eval.hpp"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "app/light/light_eval.hpp"
+#include "lab/eval/light_eval.hpp"
 #include "app/pipeline/light_capture.hpp"
 #include "app/pipeline/scene_objects.hpp"
 #include "app/render/renderer.hpp"

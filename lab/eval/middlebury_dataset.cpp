@@ -1,4 +1,4 @@
-#include "app/eval/middlebury_dataset.hpp"
+#include "lab/eval/middlebury_dataset.hpp"
 
 #include <algorithm>
 #include <cmath>

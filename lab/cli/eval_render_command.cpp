@@ -9,8 +9,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "app/cli/commands.hpp"
-#include "app/eval/render_eval.hpp"
+#include "lab/cli/lab_commands.hpp"
+#include "lab/eval/render_eval.hpp"
 
 namespace probeless::cli {
 namespace {

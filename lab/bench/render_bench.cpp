@@ -1,4 +1,4 @@
-#include "app/render/render_bench.hpp"
+#include "lab/bench/render_bench.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "app/eval/frames_dataset.hpp"
+#include "lab/eval/frames_dataset.hpp"
 
 #include <algorithm>
 #include <set>

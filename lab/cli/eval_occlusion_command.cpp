@@ -8,8 +8,8 @@
 #include <memory>
 #include <sstream>
 
-#include "app/cli/commands.hpp"
-#include "app/eval/occlusion_eval.hpp"
+#include "lab/cli/lab_commands.hpp"
+#include "lab/eval/occlusion_eval.hpp"
 
 namespace probeless::cli {
 namespace {

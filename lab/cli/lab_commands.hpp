@@ -1,0 +1,31 @@
+#pragma once
+// The lab's commands (docs/architecture.md "The lab"): evaluations against ground truth and
+// benchmarks. They run as `probeless eval ...` / `probeless bench ...`: the appliance binary
+// hands those to the lab binary (app/cli/lab_dispatch.hpp), which registers them here.
+#include "app/cli/commands.hpp"
+
+namespace probeless::cli {
+
+// probeless bench pipeline [--frames N] [--json FILE] (bench_pipeline_command.cpp)
+void add_bench_pipeline_command(CLI::App& bench);
+// probeless bench composite [--width W --height H --frames N] (bench_composite_command.cpp)
+void add_bench_composite_command(CLI::App& bench);
+// probeless bench occlusion [--json FILE] (bench_occlusion_command.cpp)
+void add_bench_occlusion_command(CLI::App& bench);
+// probeless bench sim [--frames N --sim OPTS --json FILE] (bench_sim_command.cpp)
+void add_bench_sim_command(CLI::App& bench);
+// probeless bench light [--frames N --json FILE] (bench_light_command.cpp)
+void add_bench_light_command(CLI::App& bench);
+
+// probeless eval occlusion --dataset KIND:DIR [--json F --plots D] (eval_occlusion_command.cpp)
+void add_eval_occlusion_command(CLI::App& eval);
+// probeless eval hdr --image F.hdr [--bits 8|12] [--json F] (eval_hdr_command.cpp)
+void add_eval_hdr_command(CLI::App& eval);
+// probeless eval sh --probe F.hdr [--json F --scale S --convention z-up|y-up] (eval_sh_command.cpp)
+void add_eval_sh_command(CLI::App& eval);
+// probeless eval light --source sim [--seconds S --json F] (eval_light_command.cpp)
+void add_eval_light_command(CLI::App& eval);
+// probeless eval render --source sim [--seconds S --json F] (eval_render_command.cpp)
+void add_eval_render_command(CLI::App& eval);
+
+}  // namespace probeless::cli

@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# The appliance apart from the lab (issue #16, docs/architecture.md "The lab"): the service
+# binary links no OpenCV (the evaluation's reference is the lab's), and `probeless eval` /
+# `probeless bench` still reach the lab binary beside it.
+# Usage: check_appliance_deps.sh PROBELESS_BINARY
+set -u
+bin=$1
+lab=$(dirname "$bin")/probeless-lab
+fail=0
+if ldd "$bin" | grep -i opencv; then
+  echo "FAIL: $bin links OpenCV (above)"; fail=1
+fi
+ldd "$lab" | grep -qi opencv || { echo "FAIL: $lab does not link OpenCV: is it the lab?"; fail=1; }
+# The hand-on: same flags, same exit codes as before the split.
+"$bin" eval --help | grep -q occlusion || { echo "FAIL: probeless eval --help"; fail=1; }
+"$bin" --log-level warn bench --help | grep -q pipeline || { echo "FAIL: probeless bench --help"; fail=1; }
+"$bin" eval no-such-evaluation >/dev/null 2>&1; rc=$?
+[ $rc -ne 0 ] || { echo "FAIL: an unknown evaluation exited 0"; fail=1; }
+"$bin" --help | grep -q eval || { echo "FAIL: probeless --help does not list eval"; fail=1; }
+# Without the lab installed, a clear message and exit 1 (a copy of the binary alone).
+tmp=$(mktemp -d) && trap 'rm -rf "$tmp"' EXIT
+cp "$bin" "$tmp/probeless"
+out=$("$tmp/probeless" eval occlusion 2>&1); rc=$?
+[ $rc -eq 1 ] && grep -q "probeless-lab" <<<"$out" ||
+  { echo "$out"; echo "FAIL: without the lab: exit $rc, no message naming probeless-lab"; fail=1; }
+[ $fail -eq 0 ] && echo "appliance: no OpenCV; eval and bench reach the lab: ok"
+exit $fail
