@@ -12,7 +12,7 @@
 #include <random>
 
 #include "app/cli/commands.hpp"
-#include "app/pipeline/stage_stats.hpp"
+#include "base/stage_stats.hpp"
 #include "kernels/composite/compositor.hpp"
 #include "kernels/composite/hdr_compositor.hpp"
 #include "kernels/occlusion/direct_matte.hpp"

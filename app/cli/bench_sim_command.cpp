@@ -13,7 +13,7 @@
 #include <thread>
 
 #include "app/cli/commands.hpp"
-#include "app/pipeline/stage_stats.hpp"
+#include "base/stage_stats.hpp"
 #include "drivers/sim/sim_rig.hpp"
 
 namespace probeless::cli {
