@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -11,6 +12,13 @@
 #include "base/hash.hpp"
 
 namespace probeless {
+
+std::string file_name_part(std::string_view name) {
+  std::string s;
+  for (char c : name.substr(0, 40))
+    s += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  return s;
+}
 
 bool write_file_atomically(const std::filesystem::path& path, std::string_view data) {
   std::error_code ec;

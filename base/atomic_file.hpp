@@ -11,6 +11,10 @@
 
 namespace probeless {
 
+// `name` (a mesh's, a kernel's) made safe for a cache file's name: its first 40 characters,
+// each one that is not a letter, a digit, '-' or '_' replaced by '_'.
+std::string file_name_part(std::string_view name);
+
 // Writes `data` to a temporary file beside `path` (creating the directory if needed), then
 // renames it over `path`. False, with no temporary left behind, when that fails.
 bool write_file_atomically(const std::filesystem::path& path, std::string_view data);

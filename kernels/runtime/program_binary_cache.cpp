@@ -2,13 +2,12 @@
 
 #include <fmt/format.h>
 
-#include <cctype>
 #include <cstdint>
-#include <cstring>
 #include <system_error>
 
 #include "base/atomic_file.hpp"
 #include "base/hash.hpp"
+#include "base/raw_bytes.hpp"
 
 namespace probeless {
 namespace {
@@ -18,29 +17,11 @@ namespace {
 // device, so a file never travels to another architecture and stays valid.
 constexpr char kMagic[8] = {'P', 'L', 'C', 'L', 'B', 'I', 'N', '1'};
 
-void put_u64(std::string& out, std::uint64_t v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
-bool get_u64(std::string_view& in, std::uint64_t& v) {
-  if (in.size() < sizeof v) return false;
-  std::memcpy(&v, in.data(), sizeof v);
-  in.remove_prefix(sizeof v);
-  return true;
-}
-
-std::string safe_name(std::string_view name) {
-  std::string s;
-  for (char c : name.substr(0, 40))
-    s += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
-  return s;
-}
-
 }  // namespace
 
 std::filesystem::path ProgramBinaryCache::path_for(std::string_view name,
                                                    std::string_view key) const {
-  return dir_ / fmt::format("{}-{:016x}.clbin", safe_name(name), fnv1a64(key));
+  return dir_ / fmt::format("{}-{:016x}.clbin", file_name_part(name), fnv1a64(key));
 }
 
 ProgramBinaryCache::Entry ProgramBinaryCache::load(std::string_view name,
@@ -55,9 +36,9 @@ ProgramBinaryCache::Entry ProgramBinaryCache::load(std::string_view name,
   if (in.substr(0, sizeof kMagic) != std::string_view(kMagic, sizeof kMagic)) return entry;
   in.remove_prefix(sizeof kMagic);
   std::uint64_t key_len = 0, bin_len = 0;
-  if (!get_u64(in, key_len) || key_len > in.size() || in.substr(0, key_len) != key) return entry;
+  if (!get_raw(in, key_len) || key_len > in.size() || in.substr(0, key_len) != key) return entry;
   in.remove_prefix(key_len);
-  if (!get_u64(in, bin_len) || bin_len != in.size() || bin_len == 0) return entry;
+  if (!get_raw(in, bin_len) || bin_len != in.size() || bin_len == 0) return entry;
   entry.binary.assign(in.begin(), in.end());
   entry.status = Lookup::Hit;
   return entry;
@@ -66,9 +47,9 @@ ProgramBinaryCache::Entry ProgramBinaryCache::load(std::string_view name,
 bool ProgramBinaryCache::store(std::string_view name, std::string_view key,
                                const std::vector<unsigned char>& binary) const {
   std::string data(kMagic, sizeof kMagic);
-  put_u64(data, key.size());
+  put_raw(data, static_cast<std::uint64_t>(key.size()));
   data.append(key);
-  put_u64(data, binary.size());
+  put_raw(data, static_cast<std::uint64_t>(binary.size()));
   data.append(reinterpret_cast<const char*>(binary.data()), binary.size());
   return write_checksummed_file(path_for(name, key), std::move(data));
 }

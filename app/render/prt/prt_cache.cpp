@@ -2,12 +2,12 @@
 
 #include <fmt/format.h>
 
-#include <cctype>
 #include <cstring>
 #include <system_error>
 
 #include "base/atomic_file.hpp"
 #include "base/hash.hpp"
+#include "base/raw_bytes.hpp"
 
 namespace probeless::prt {
 namespace {
@@ -20,23 +20,8 @@ namespace {
 constexpr char kMagic[8] = {'P', 'L', 'P', 'R', 'T', 'X', 'F', '1'};
 constexpr std::uint32_t kFormatVersion = 1;
 
-template <typename T>
-void put(std::string& out, T v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
-template <typename T>
-bool get(std::string_view& in, T& v) {
-  if (in.size() < sizeof v) return false;
-  std::memcpy(&v, in.data(), sizeof v);
-  in.remove_prefix(sizeof v);
-  return true;
-}
-
 std::string safe_name(std::string_view name) {
-  std::string s;
-  for (char c : name.substr(0, 40))
-    s += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  std::string s = file_name_part(name);
   return s.empty() ? "mesh" : s;
 }
 
@@ -102,18 +87,18 @@ TransferCache::Entry TransferCache::load(std::string_view name, std::string_view
     return corrupt("not a PRT cache file");
   in.remove_prefix(sizeof kMagic);
   std::uint32_t version = 0, per_vertex = 0;
-  if (!get(in, version) || version != kFormatVersion) return corrupt("another format version");
-  if (!get(in, per_vertex) || per_vertex != kTransferCount)
+  if (!get_raw(in, version) || version != kFormatVersion) return corrupt("another format version");
+  if (!get_raw(in, per_vertex) || per_vertex != kTransferCount)
     return corrupt("another coefficient count");
   std::uint64_t key_len = 0, blocks = 0;
-  if (!get(in, key_len) || key_len > in.size() || in.substr(0, key_len) != key)
+  if (!get_raw(in, key_len) || key_len > in.size() || in.substr(0, key_len) != key)
     return corrupt("another key (hash collision or stale file)");
   in.remove_prefix(key_len);
-  if (!get(in, blocks) || blocks != vertex_counts.size()) return corrupt("wrong block count");
+  if (!get_raw(in, blocks) || blocks != vertex_counts.size()) return corrupt("wrong block count");
   std::uint64_t floats = 0;
   for (std::size_t b = 0; b < blocks; ++b) {
     std::uint64_t n = 0;
-    if (!get(in, n) || n != vertex_counts[b]) return corrupt("wrong vertex count");
+    if (!get_raw(in, n) || n != vertex_counts[b]) return corrupt("wrong vertex count");
     floats += n * kTransferCount;
   }
   if (in.size() != floats * sizeof(float)) return corrupt("wrong payload size");
@@ -131,12 +116,12 @@ TransferCache::Entry TransferCache::load(std::string_view name, std::string_view
 bool TransferCache::store(std::string_view name, std::string_view key,
                           const std::vector<const Transfer*>& blocks) const {
   std::string data(kMagic, sizeof kMagic);
-  put(data, kFormatVersion);
-  put(data, static_cast<std::uint32_t>(kTransferCount));
-  put(data, static_cast<std::uint64_t>(key.size()));
+  put_raw(data, kFormatVersion);
+  put_raw(data, static_cast<std::uint32_t>(kTransferCount));
+  put_raw(data, static_cast<std::uint64_t>(key.size()));
   data.append(key);
-  put(data, static_cast<std::uint64_t>(blocks.size()));
-  for (const Transfer* t : blocks) put(data, static_cast<std::uint64_t>(t->vertex_count()));
+  put_raw(data, static_cast<std::uint64_t>(blocks.size()));
+  for (const Transfer* t : blocks) put_raw(data, static_cast<std::uint64_t>(t->vertex_count()));
   for (const Transfer* t : blocks)
     data.append(reinterpret_cast<const char*>(t->coefficients.data()),
                 t->coefficients.size() * sizeof(float));

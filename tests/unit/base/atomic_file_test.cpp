@@ -1,5 +1,6 @@
-// The cache files of base/atomic_file.hpp: whole or absent, never a torn file under the final
-// name, and a damaged one is told apart from a good one.
+// The cache files of base/atomic_file.hpp (and the raw fields of base/raw_bytes.hpp): whole
+// or absent, never a torn file under the final name, and a damaged one is told apart from a
+// good one.
 #include "base/atomic_file.hpp"
 
 #include <gtest/gtest.h>
@@ -11,9 +12,11 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "base/hash.hpp"
+#include "base/raw_bytes.hpp"
 
 namespace probeless {
 namespace {
@@ -110,6 +113,32 @@ TEST_F(AtomicFileTest, DamageIsDetected) {
   EXPECT_EQ(read_checksummed_file(path, 8).status, Status::Truncated);
   write_raw(path, "");
   EXPECT_EQ(read_checksummed_file(path).status, Status::Truncated);
+}
+
+TEST(FileNamePart, KeepsSafeCharactersOnly) {
+  EXPECT_EQ(file_name_part("my kernel!"), "my_kernel_");
+  EXPECT_EQ(file_name_part("../etc/passwd"), "___etc_passwd");
+  EXPECT_EQ(file_name_part("ok-name_2"), "ok-name_2");
+  EXPECT_EQ(file_name_part(std::string(50, 'x')), std::string(40, 'x'));
+  EXPECT_EQ(file_name_part(""), "");
+}
+
+TEST(RawBytes, RoundTripAndShortInput) {
+  std::string out;
+  put_raw(out, std::uint32_t{7});
+  put_raw(out, std::uint64_t{0x0102030405060708ULL});
+  ASSERT_EQ(out.size(), 12u);
+  std::string_view in = out;
+  std::uint32_t a = 0;
+  std::uint64_t b = 0;
+  ASSERT_TRUE(get_raw(in, a));
+  ASSERT_TRUE(get_raw(in, b));
+  EXPECT_EQ(a, 7u);
+  EXPECT_EQ(b, 0x0102030405060708ULL);
+  EXPECT_TRUE(in.empty());
+  std::string_view short_in = std::string_view(out).substr(0, 3);
+  EXPECT_FALSE(get_raw(short_in, a));
+  EXPECT_EQ(short_in.size(), 3u);  // nothing consumed
 }
 
 }  // namespace
