@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "app/light/sh_projector.hpp"
-#include "app/pipeline/stage_stats.hpp"
+#include "base/stage_stats.hpp"
 #include "core/frame.hpp"
 #include "core/pose.hpp"
 #include "core/sh.hpp"

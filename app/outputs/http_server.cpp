@@ -21,8 +21,8 @@
 #include <system_error>
 #include <thread>
 
-#include "app/outputs/latest_frame.hpp"
 #include "app/outputs/viewer_page.hpp"
+#include "base/latest_frame.hpp"
 
 namespace probeless {
 namespace {

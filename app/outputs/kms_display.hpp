@@ -14,8 +14,8 @@
 #include <thread>
 
 #include "app/outputs/display/kms_screen.hpp"
-#include "app/outputs/latest_frame.hpp"
-#include "app/pipeline/stage_stats.hpp"
+#include "base/latest_frame.hpp"
+#include "base/stage_stats.hpp"
 #include "core/image.hpp"
 
 namespace probeless {

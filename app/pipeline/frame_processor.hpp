@@ -9,7 +9,7 @@
 #include "app/pipeline/frame_stages.hpp"
 #include "app/pipeline/pipeline.hpp"
 #include "app/pipeline/service_config.hpp"
-#include "app/pipeline/stage_stats.hpp"
+#include "base/stage_stats.hpp"
 
 namespace probeless {
 

@@ -17,7 +17,7 @@
 #include <string>
 
 #include "app/pipeline/service_config.hpp"
-#include "app/pipeline/stage_stats.hpp"
+#include "base/stage_stats.hpp"
 #include "core/calibration.hpp"
 #include "core/frame.hpp"
 #include "core/sh.hpp"

@@ -14,10 +14,10 @@
 #include <string>
 #include <thread>
 
-#include "app/outputs/latest_frame.hpp"
 #include "app/pipeline/service_config.hpp"
-#include "app/pipeline/stage_stats.hpp"
 #include "app/service/systemd_notifier.hpp"
+#include "base/latest_frame.hpp"
+#include "base/stage_stats.hpp"
 #include "core/frame.hpp"
 #include "drivers/source.hpp"
 #include "drivers/trigger/exposure_trigger.hpp"

@@ -2,7 +2,6 @@
 
 #include <sys/ioctl.h>
 #include <sys/mman.h>
-#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -20,13 +19,6 @@ int xioctl(int fd, unsigned long request, void* arg) {
 
 std::string errno_text(const char* what, int err) {
   return std::string(what) + ": " + std::strerror(err);
-}
-
-void UniqueFd::reset() {
-  // close() is not retried on EINTR: Linux releases the descriptor either way, and a retry
-  // could close one another thread has just been given.
-  if (fd_ >= 0) ::close(fd_);
-  fd_ = -1;
 }
 
 MappedBuffer::MappedBuffer(int fd, std::size_t length, long offset) : length_(length) {

@@ -1,9 +1,11 @@
 #pragma once
-// RAII for the C handles of a V4L2 capture: the device's file descriptor and its mmap'd
-// buffers, plus an ioctl that survives signals. Internal to drivers/v4l2.
+// RAII for the C handles of a V4L2 capture: the device's file descriptor (base/unique_fd.hpp)
+// and its mmap'd buffers, plus an ioctl that survives signals. Internal to drivers/v4l2.
 #include <cstddef>
 #include <string>
 #include <utility>
+
+#include "base/unique_fd.hpp"
 
 namespace probeless::v4l2 {
 
@@ -13,30 +15,6 @@ int xioctl(int fd, unsigned long request, void* arg);
 
 // "VIDIOC_DQBUF: No such device" for error messages.
 std::string errno_text(const char* what, int err);
-
-class UniqueFd {
- public:
-  UniqueFd() = default;
-  explicit UniqueFd(int fd) : fd_(fd) {}
-  ~UniqueFd() { reset(); }
-  UniqueFd(UniqueFd&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
-  UniqueFd& operator=(UniqueFd&& o) noexcept {
-    if (this != &o) {
-      reset();
-      fd_ = std::exchange(o.fd_, -1);
-    }
-    return *this;
-  }
-  UniqueFd(const UniqueFd&) = delete;
-  UniqueFd& operator=(const UniqueFd&) = delete;
-
-  int get() const { return fd_; }
-  explicit operator bool() const { return fd_ >= 0; }
-  void reset();
-
- private:
-  int fd_ = -1;
-};
 
 // One driver buffer mapped into our address space; unmapped on destruction. Must not outlive
 // the open file it was mapped from only by convention: munmap works either way, and the

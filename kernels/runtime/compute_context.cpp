@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "base/hash.hpp"
 #include "kernels/runtime/program_binary_cache.hpp"
 
 namespace probeless {

@@ -2,18 +2,12 @@
 // Program binaries on disk, so that a restart does not pay the OpenCL compiler again (PoCL
 // takes ~0.7 s for a small kernel). One file per key; the file repeats the key and carries a
 // checksum, so a stale, foreign or torn file is detected and replaced, never trusted.
-#include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace probeless {
-
-// 64-bit FNV-1a: stable across runs and machines (unlike std::hash), enough to name files;
-// the full key inside the file guards against collisions.
-std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t seed = 0xcbf29ce484222325ULL);
 
 class ProgramBinaryCache {
  public:
@@ -31,8 +25,9 @@ class ProgramBinaryCache {
   // Corrupt: unreadable, truncated, wrong magic, another key, or a bad checksum. The caller
   // discards it (remove()) and rebuilds.
   Entry load(std::string_view name, std::string_view key) const;
-  // Atomic: written to a temporary file in the same directory, then renamed over. Returns
-  // false (and leaves no temporary behind) when the directory is not writable.
+  // Atomic (base/atomic_file.hpp): written to a temporary file in the same directory, then
+  // renamed over. Returns false (and leaves no temporary behind) when the directory is not
+  // writable.
   bool store(std::string_view name, std::string_view key,
              const std::vector<unsigned char>& binary) const;
   void remove(std::string_view name, std::string_view key) const;

@@ -11,8 +11,8 @@
 #include <iostream>
 #include <random>
 
+#include "base/stage_stats.hpp"
 #include "lab/cli/lab_commands.hpp"
-#include "app/pipeline/stage_stats.hpp"
 #include "kernels/composite/compositor.hpp"
 #include "kernels/composite/hdr_compositor.hpp"
 #include "kernels/occlusion/direct_matte.hpp"

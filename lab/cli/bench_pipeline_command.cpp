@@ -11,7 +11,7 @@
 
 #include "lab/cli/lab_commands.hpp"
 #include "app/pipeline/pipeline.hpp"
-#include "app/pipeline/stage_stats.hpp"
+#include "base/stage_stats.hpp"
 #include "drivers/rig_factory.hpp"
 
 namespace probeless::cli {

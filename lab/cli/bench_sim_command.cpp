@@ -12,8 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
+#include "base/stage_stats.hpp"
 #include "lab/cli/lab_commands.hpp"
-#include "app/pipeline/stage_stats.hpp"
 #include "drivers/sim/sim_rig.hpp"
 
 namespace probeless::cli {

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The arm64 cross build and its tests under QEMU user mode (docs/boards.md), as one ctest:
 #   check_arm64.sh SOURCE_DIR BUILD_DIR
-# Configures BUILD_DIR with the arm64 preset (core, drivers and kernels, cross compiled by
+# Configures BUILD_DIR with the arm64 preset (base, core, drivers and kernels, cross compiled by
 # crossbuild-essential-arm64 against multiarch arm64 libraries), builds it (ccache when
 # present) and runs its ctest, every test binary through qemu-aarch64-static.
 # Exit 77 (skip) when the toolchain, the arm64 libraries or QEMU are missing.

@@ -72,7 +72,7 @@ struct CrtcState {
   int width = 0, height = 0;
 };
 CrtcState crtc_state() {
-  DrmFd fd = open_card("/dev/dri/card0");
+  UniqueFd fd = open_card("/dev/dri/card0");
   ModeResources res = get_resources(fd, "/dev/dri/card0");
   ModeCrtc crtc(drmModeGetCrtc(fd.get(), res->crtcs[0]));
   if (!crtc) return {};
@@ -159,7 +159,7 @@ TEST_F(VirtioGpu, ARequestedModeIsSetAndAnUnofferedOneIsAClearError) {
   // A mode the connector offers that is not the preferred one: read the list first.
   std::string wanted;
   {
-    DrmFd fd = open_card("/dev/dri/card0");
+    UniqueFd fd = open_card("/dev/dri/card0");
     ModeResources res = get_resources(fd, "/dev/dri/card0");
     for (int i = 0; i < res->count_connectors && wanted.empty(); ++i) {
       ModeConnector c(drmModeGetConnector(fd.get(), res->connectors[i]));

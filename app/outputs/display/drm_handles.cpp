@@ -2,18 +2,13 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <utility>
 
 namespace probeless::display {
-
-void DrmFd::reset() {
-  if (fd_ >= 0) ::close(fd_);
-  fd_ = -1;
-}
 
 std::vector<std::filesystem::path> list_cards(const std::filesystem::path& dri_dir) {
   std::vector<std::pair<int, std::filesystem::path>> found;
@@ -31,8 +26,8 @@ std::vector<std::filesystem::path> list_cards(const std::filesystem::path& dri_d
   return cards;
 }
 
-DrmFd open_card(const std::filesystem::path& path) {
-  DrmFd fd(::open(path.c_str(), O_RDWR | O_CLOEXEC));
+UniqueFd open_card(const std::filesystem::path& path) {
+  UniqueFd fd(::open(path.c_str(), O_RDWR | O_CLOEXEC));
   if (fd) return fd;
   const int err = errno;
   if (err == ENOENT)
@@ -45,7 +40,7 @@ DrmFd open_card(const std::filesystem::path& path) {
   throw DisplayError(fmt::format("{}: cannot open: {}", path.string(), std::strerror(err)));
 }
 
-ModeResources get_resources(const DrmFd& fd, const std::filesystem::path& path) {
+ModeResources get_resources(const UniqueFd& fd, const std::filesystem::path& path) {
   ModeResources res(drmModeGetResources(fd.get()));
   if (!res) {
     const int err = errno;
@@ -77,7 +72,7 @@ ModeInfo mode_info(const drmModeModeInfo& m) {
   return info;
 }
 
-std::string driver_name(const DrmFd& fd) {
+std::string driver_name(const UniqueFd& fd) {
   drmVersionPtr v = drmGetVersion(fd.get());
   if (v == nullptr) return "?";
   std::string name(v->name, static_cast<std::size_t>(v->name_len));

@@ -1,45 +1,20 @@
 #pragma once
 // RAII for the libdrm handles of the tethered display: the card's descriptor and the mode
 // objects libdrm allocates (resources, connector, encoder, CRTC), plus the few queries the
-// display and `probeless devices` share. Copying is disabled; every handle frees itself.
+// display and `probeless devices` share. Copying is disabled; every handle frees itself. The
+// card's descriptor is a base/unique_fd.hpp UniqueFd.
 #include <xf86drm.h>
 #include <xf86drmMode.h>
 
 #include <filesystem>
 #include <memory>
 #include <string>
-#include <utility>
 #include <vector>
 
 #include "app/outputs/display/display_mode.hpp"
+#include "base/unique_fd.hpp"
 
 namespace probeless::display {
-
-// An open /dev/dri/cardN. Closes on destruction; release() hands the descriptor over.
-class DrmFd {
- public:
-  DrmFd() = default;
-  explicit DrmFd(int fd) : fd_(fd) {}
-  ~DrmFd() { reset(); }
-  DrmFd(DrmFd&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
-  DrmFd& operator=(DrmFd&& o) noexcept {
-    if (this != &o) {
-      reset();
-      fd_ = std::exchange(o.fd_, -1);
-    }
-    return *this;
-  }
-  DrmFd(const DrmFd&) = delete;
-  DrmFd& operator=(const DrmFd&) = delete;
-
-  int get() const { return fd_; }
-  explicit operator bool() const { return fd_ >= 0; }
-  [[nodiscard]] int release() { return std::exchange(fd_, -1); }
-  void reset();
-
- private:
-  int fd_ = -1;
-};
 
 struct ResourcesDeleter {
   void operator()(drmModeRes* p) const { drmModeFreeResources(p); }
@@ -63,14 +38,14 @@ using ModeCrtc = std::unique_ptr<drmModeCrtc, CrtcDeleter>;
 std::vector<std::filesystem::path> list_cards(const std::filesystem::path& dri_dir);
 
 // Opens a card read-write; DisplayError saying why not (missing, permissions, not DRM).
-DrmFd open_card(const std::filesystem::path& path);
+UniqueFd open_card(const std::filesystem::path& path);
 
 // The card's mode resources; DisplayError when it is not a KMS device (a render-only GPU).
-ModeResources get_resources(const DrmFd& fd, const std::filesystem::path& path);
+ModeResources get_resources(const UniqueFd& fd, const std::filesystem::path& path);
 
 // "HDMI-A-1", "Virtual-1", "eDP-1": as the kernel (and Xorg/Weston/sysfs) name connectors.
 std::string connector_name(const drmModeConnector& c);
 ModeInfo mode_info(const drmModeModeInfo& m);
-std::string driver_name(const DrmFd& fd);  // "virtio_gpu", "vc4", "rockchip", ...
+std::string driver_name(const UniqueFd& fd);  // "virtio_gpu", "vc4", "rockchip", ...
 
 }  // namespace probeless::display

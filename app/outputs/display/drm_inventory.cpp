@@ -10,7 +10,7 @@ std::vector<CardInventory> list_displays(const std::filesystem::path& dri_dir) {
     CardInventory card;
     card.path = path;
     try {
-      const DrmFd fd = open_card(path);
+      const UniqueFd fd = open_card(path);
       card.driver = driver_name(fd);
       const ModeResources res = get_resources(fd, path);
       for (int i = 0; i < res->count_connectors; ++i) {

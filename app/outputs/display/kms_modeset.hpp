@@ -58,7 +58,7 @@ class KmsModeset {
   void open(const std::filesystem::path& path, const std::string& connector,
             const std::optional<ModeRequest>& mode);
 
-  DrmFd fd_;
+  UniqueFd fd_;
   KmsTarget target_;
   std::uint32_t connector_id_ = 0;
   std::uint32_t crtc_id_ = 0;

@@ -1,15 +1,13 @@
 #include "app/render/prt/prt_cache.hpp"
 
 #include <fmt/format.h>
-#include <unistd.h>
 
-#include <atomic>
-#include <cctype>
 #include <cstring>
-#include <fstream>
 #include <system_error>
 
-#include "kernels/runtime/program_binary_cache.hpp"  // fnv1a64
+#include "base/atomic_file.hpp"
+#include "base/hash.hpp"
+#include "base/raw_bytes.hpp"
 
 namespace probeless::prt {
 namespace {
@@ -17,27 +15,13 @@ namespace {
 // File layout, host byte order (a cache never leaves its machine):
 //   magic[8] "PLPRTXF1", u32 format version, u32 coefficients per vertex (25),
 //   u64 key length, key, u64 block count, u64 vertex count per block,
-//   the blocks' floats one after the other, u64 FNV-1a of everything before it.
+//   the blocks' floats one after the other, u64 FNV-1a of everything before it
+//   (base/atomic_file.hpp).
 constexpr char kMagic[8] = {'P', 'L', 'P', 'R', 'T', 'X', 'F', '1'};
 constexpr std::uint32_t kFormatVersion = 1;
 
-template <typename T>
-void put(std::string& out, T v) {
-  out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
-template <typename T>
-bool get(std::string_view& in, T& v) {
-  if (in.size() < sizeof v) return false;
-  std::memcpy(&v, in.data(), sizeof v);
-  in.remove_prefix(sizeof v);
-  return true;
-}
-
 std::string safe_name(std::string_view name) {
-  std::string s;
-  for (char c : name.substr(0, 40))
-    s += (std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_') ? c : '_';
+  std::string s = file_name_part(name);
   return s.empty() ? "mesh" : s;
 }
 
@@ -79,44 +63,42 @@ std::filesystem::path TransferCache::path_for(std::string_view name, std::string
 TransferCache::Entry TransferCache::load(std::string_view name, std::string_view key,
                                          const std::vector<std::size_t>& vertex_counts) const {
   Entry entry;
-  const auto path = path_for(name, key);
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return entry;  // Missing
-  entry.status = Lookup::Corrupt;
+  const ChecksummedFile file = read_checksummed_file(path_for(name, key), sizeof kMagic);
   auto corrupt = [&](std::string why) {
+    entry.status = Lookup::Corrupt;
     entry.problem = std::move(why);
     return entry;
   };
-  std::string data(size, '\0');
-  std::ifstream f(path, std::ios::binary);
-  if (!f.read(data.data(), static_cast<std::streamsize>(size))) return corrupt("unreadable");
+  switch (file.status) {
+    case ChecksummedFile::Status::Ok:
+      break;
+    case ChecksummedFile::Status::Missing:
+      return entry;
+    case ChecksummedFile::Status::Unreadable:
+      return corrupt("unreadable");
+    case ChecksummedFile::Status::Truncated:
+      return corrupt("truncated");
+    case ChecksummedFile::Status::BadChecksum:
+      return corrupt("checksum mismatch (truncated or damaged)");
+  }
 
-  std::string_view in = data;
-  if (in.size() < sizeof kMagic + sizeof(std::uint64_t)) return corrupt("truncated");
-  const std::string_view body = in.substr(0, in.size() - sizeof(std::uint64_t));
-  std::string_view tail = in.substr(body.size());
-  std::uint64_t checksum = 0;
-  get(tail, checksum);
-  if (checksum != fnv1a64(body)) return corrupt("checksum mismatch (truncated or damaged)");
-
-  in = body;
+  std::string_view in = file.body;
   if (in.substr(0, sizeof kMagic) != std::string_view(kMagic, sizeof kMagic))
     return corrupt("not a PRT cache file");
   in.remove_prefix(sizeof kMagic);
   std::uint32_t version = 0, per_vertex = 0;
-  if (!get(in, version) || version != kFormatVersion) return corrupt("another format version");
-  if (!get(in, per_vertex) || per_vertex != kTransferCount)
+  if (!get_raw(in, version) || version != kFormatVersion) return corrupt("another format version");
+  if (!get_raw(in, per_vertex) || per_vertex != kTransferCount)
     return corrupt("another coefficient count");
   std::uint64_t key_len = 0, blocks = 0;
-  if (!get(in, key_len) || key_len > in.size() || in.substr(0, key_len) != key)
+  if (!get_raw(in, key_len) || key_len > in.size() || in.substr(0, key_len) != key)
     return corrupt("another key (hash collision or stale file)");
   in.remove_prefix(key_len);
-  if (!get(in, blocks) || blocks != vertex_counts.size()) return corrupt("wrong block count");
+  if (!get_raw(in, blocks) || blocks != vertex_counts.size()) return corrupt("wrong block count");
   std::uint64_t floats = 0;
   for (std::size_t b = 0; b < blocks; ++b) {
     std::uint64_t n = 0;
-    if (!get(in, n) || n != vertex_counts[b]) return corrupt("wrong vertex count");
+    if (!get_raw(in, n) || n != vertex_counts[b]) return corrupt("wrong vertex count");
     floats += n * kTransferCount;
   }
   if (in.size() != floats * sizeof(float)) return corrupt("wrong payload size");
@@ -134,41 +116,16 @@ TransferCache::Entry TransferCache::load(std::string_view name, std::string_view
 bool TransferCache::store(std::string_view name, std::string_view key,
                           const std::vector<const Transfer*>& blocks) const {
   std::string data(kMagic, sizeof kMagic);
-  put(data, kFormatVersion);
-  put(data, static_cast<std::uint32_t>(kTransferCount));
-  put(data, static_cast<std::uint64_t>(key.size()));
+  put_raw(data, kFormatVersion);
+  put_raw(data, static_cast<std::uint32_t>(kTransferCount));
+  put_raw(data, static_cast<std::uint64_t>(key.size()));
   data.append(key);
-  put(data, static_cast<std::uint64_t>(blocks.size()));
-  for (const Transfer* t : blocks) put(data, static_cast<std::uint64_t>(t->vertex_count()));
+  put_raw(data, static_cast<std::uint64_t>(blocks.size()));
+  for (const Transfer* t : blocks) put_raw(data, static_cast<std::uint64_t>(t->vertex_count()));
   for (const Transfer* t : blocks)
     data.append(reinterpret_cast<const char*>(t->coefficients.data()),
                 t->coefficients.size() * sizeof(float));
-  put(data, fnv1a64(data));
-
-  std::error_code ec;
-  std::filesystem::create_directories(dir_, ec);
-  if (ec) return false;
-  const auto final_path = path_for(name, key);
-  // Unique per process and call: two services may write the same entry at once.
-  static std::atomic<unsigned> counter{0};
-  auto tmp = final_path;
-  tmp += fmt::format(".tmp.{}.{}", ::getpid(), counter++);
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    f.write(data.data(), static_cast<std::streamsize>(data.size()));
-    f.flush();
-    if (!f) {
-      f.close();
-      std::filesystem::remove(tmp, ec);
-      return false;
-    }
-  }
-  std::filesystem::rename(tmp, final_path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    return false;
-  }
-  return true;
+  return write_checksummed_file(path_for(name, key), std::move(data));
 }
 
 void TransferCache::remove(std::string_view name, std::string_view key) const {

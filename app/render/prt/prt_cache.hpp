@@ -2,8 +2,8 @@
 // Baked transfer on disk, so a restart with the same model and settings loads in milliseconds
 // instead of baking again (docs/prt.md "Cache"). The pattern of the OpenCL program cache
 // (kernels/runtime/program_binary_cache.hpp): one file per key, the full key repeated inside,
-// a checksum over everything, atomic writes; anything that does not check out is Corrupt and
-// the caller rebakes.
+// a checksum over everything, atomic writes (both through base/atomic_file.hpp); anything
+// that does not check out is Corrupt and the caller rebakes.
 #include <cstdint>
 #include <filesystem>
 #include <string>

@@ -5,9 +5,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include "app/render/prt/prt.hpp"
 #include "app/render/prt/prt_cache.hpp"
+#include "base/hash.hpp"
 
 namespace probeless::prt {
 namespace {
@@ -136,6 +139,26 @@ TEST_F(PrtCacheTest, WholeFileForAnotherKeyIsRejected) {
   ASSERT_EQ(hit.status, TransferCache::Lookup::Hit);
   EXPECT_EQ(hit.blocks.at(0), t);
   EXPECT_EQ(cache.load("m", "key three", {2}).status, TransferCache::Lookup::Missing);
+}
+
+// Files written before the cache moved onto base/atomic_file.hpp must stay valid: the name
+// and the bytes of a small entry, as that code wrote them (size and FNV-1a of the file).
+TEST_F(PrtCacheTest, FileNameAndBytesArePinned) {
+  const TransferCache cache(dir_);
+  Transfer a, b;
+  for (int i = 0; i < 2 * kTransferCount; ++i) a.coefficients.push_back(0.5f * i - 3.f);
+  for (int i = 0; i < kTransferCount; ++i) b.coefficients.push_back(1.f / (i + 1));
+  ASSERT_TRUE(cache.store("pawn", "prt bake key", {&a, &b}));
+  const fs::path file = cache.path_for("pawn", "prt bake key");
+  EXPECT_EQ(file.filename(), "prt-pawn-bc0abbc9be57a331.bin");
+  std::ifstream f(file, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(bytes.size(), 368u);
+  EXPECT_EQ(fnv1a64(bytes), 0x77f5d414da853215ULL);
+  const auto hit = cache.load("pawn", "prt bake key", {2, 1});
+  ASSERT_EQ(hit.status, TransferCache::Lookup::Hit);
+  EXPECT_EQ(hit.blocks.at(0), a);
+  EXPECT_EQ(hit.blocks.at(1), b);
 }
 
 TEST_F(PrtCacheTest, UnwritableDirectoryStillBakes) {

@@ -1,4 +1,4 @@
-#include "app/outputs/latest_frame.hpp"
+#include "base/latest_frame.hpp"
 
 #include <gtest/gtest.h>
 

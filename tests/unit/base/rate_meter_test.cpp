@@ -3,7 +3,7 @@
 
 #include <cstdint>
 
-#include "app/pipeline/stage_stats.hpp"
+#include "base/stage_stats.hpp"
 
 namespace probeless {
 namespace {

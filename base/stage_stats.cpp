@@ -1,4 +1,4 @@
-#include "app/pipeline/stage_stats.hpp"
+#include "base/stage_stats.hpp"
 
 #include <algorithm>
 #include <cmath>
