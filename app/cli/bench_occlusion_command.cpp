@@ -18,8 +18,8 @@
 #include "app/eval/cvf_opencv_reference.hpp"
 #include "app/eval/matte_metrics.hpp"
 #include "app/eval/middlebury_dataset.hpp"
-#include "kernels/occlusion/cvf_matte.hpp"
-#include "kernels/occlusion/cvf_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_matte.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 
 namespace probeless::cli {
 namespace {
