@@ -1,10 +1,12 @@
 # probeless_embed_cl(<target> <stage.cl>...)
 #
-# Embeds each OpenCL source into the binary at build time. For kernels/occlusion/direct.cl it
-# generates <build>/generated/kernels/occlusion/direct_cl.hpp declaring
-#   namespace probeless::cl_source { inline constexpr std::string_view direct = R"(...)"; }
-# so the host class beside the .cl includes "kernels/occlusion/direct_cl.hpp". The program
-# cache hashes the text itself, so no hash is computed here.
+# Embeds each OpenCL source into the binary at build time. For
+# kernels/occlusion/baselines/direct_matte.cl it generates
+# <build>/generated/kernels/occlusion/baselines/direct_matte_cl.hpp declaring
+#   namespace probeless::cl_source { inline constexpr std::string_view direct_matte = R"(...)"; }
+# so the host class beside the .cl includes "kernels/occlusion/baselines/direct_matte_cl.hpp".
+# The symbol is the file's stem alone, so no two .cl files may share one. The program cache
+# hashes the text itself, so no hash is computed here.
 set(_PROBELESS_EMBED_SCRIPT "${CMAKE_CURRENT_LIST_DIR}/EmbedClFile.cmake")
 function(probeless_embed_cl target)
   set(gen_root "${PROJECT_BINARY_DIR}/generated")

@@ -59,6 +59,9 @@ Rig open_combined_rig(std::string_view rgbd_spec, std::string fisheye_spec) {
   const std::string calibration = take_calibration(fisheye_spec);
   Rig rig = open_rig(rgbd_spec);
   rig.fisheye = open_fisheye_source(fisheye_spec);
+  // The objects still stand in the RGB-D rig's world, but the light comes from a fisheye in
+  // another room than the synthetic rig's.
+  rig.scene.room.reset();
   if (!calibration.empty()) rig.calibration = replay::load_rig_calibration(calibration);
   return rig;
 }

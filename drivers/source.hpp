@@ -3,8 +3,10 @@
 // timestamped frames and reports a typed state. read() never blocks longer than the timeout
 // it is given (callers pass about one frame period). "No frame yet" and "end of stream" are
 // different answers.
+#include <Eigen/Core>
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/calibration.hpp"
@@ -39,11 +41,24 @@ class FisheyeSource : public Source<FisheyeFrame> {
   virtual void set_next_exposure(const ExposureStamp& exposure) = 0;
 };
 
+// An axis-aligned box in the world frame (metres): a room's floor, walls and ceiling.
+struct RoomBounds {
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
+};
+
+// What a rig knows of the scene it looks at, in its world frame. The synthetic rig knows
+// both; a camera or a recording knows neither, and the configuration says instead.
+struct RigScene {
+  std::optional<Eigen::Vector3d> object_anchor;  // where virtual objects stand by default
+  std::optional<RoomBounds> room;  // the room the fisheye sees, for light-capture parallax
+};
+
 // A rig as a source set: what `--source sim` or `--source replay:DIR` opens.
 struct Rig {
   std::unique_ptr<RgbdSource> rgbd;
   std::unique_ptr<FisheyeSource> fisheye;  // may be null (a TUM sequence has none)
   RigCalibration calibration;
+  RigScene scene;
 };
 
 }  // namespace probeless

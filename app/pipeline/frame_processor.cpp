@@ -2,8 +2,8 @@
 
 #include <chrono>
 
-#include "lab/eval/method_set.hpp"
 #include "app/pipeline/scene_objects.hpp"
+#include "kernels/occlusion/method_registry.hpp"
 
 namespace probeless {
 
@@ -20,7 +20,7 @@ FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration
       calibration.rgb.intrinsics(), std::move(light)));
   stages_.push_back(std::make_unique<UploadStage>(*ctx_));
   auto occlusion =
-      std::make_unique<OcclusionStage>(eval::make_method(*ctx_, config.occlusion_method));
+      std::make_unique<OcclusionStage>(occlusion::make_method(*ctx_, config.occlusion_method));
   occlusion_ = occlusion.get();
   stages_.push_back(std::move(occlusion));
   stages_.push_back(std::make_unique<CompositeStage>(*ctx_));

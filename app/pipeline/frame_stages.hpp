@@ -14,7 +14,7 @@
 #include "core/frame.hpp"
 #include "kernels/composite/compositor.hpp"
 #include "kernels/composite/hdr_compositor.hpp"
-#include "kernels/occlusion/occlusion_method.hpp"
+#include "kernels/occlusion/common/occlusion_method.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_image.hpp"
 

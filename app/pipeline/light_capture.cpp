@@ -5,14 +5,13 @@
 
 #include <chrono>
 
-#include "app/light/colour_fill.hpp"
-#include "app/light/light_estimator.hpp"
-#include "app/light/room_proxy.hpp"
-#include "app/light/sh_projector.hpp"
+#include "app/pipeline/scene_objects.hpp"
 #include "core/camera/kannala_brandt.hpp"
-#include "drivers/sim/sim_rig.hpp"
 #include "kernels/envmap/keyframe_reprojection.hpp"
 #include "kernels/hdr/colour_exposure.hpp"
+#include "kernels/light/colour_fill.hpp"
+#include "kernels/light/light_estimator.hpp"
+#include "kernels/light/sh_projector.hpp"
 #include "kernels/runtime/compute_context.hpp"
 
 namespace probeless {
@@ -60,25 +59,21 @@ const KannalaBrandtCamera& kannala_brandt(const RigCalibration& calibration) {
   return *kb;
 }
 
-bool is_sim(const std::string& source) {
-  return source == "sim" || source.starts_with("sim:");
-}
-
 // [light] room (docs/configuration.md): the room box parallax takes, if any.
-std::optional<envmap::RoomBox> room_of(const ServiceConfig& c) {
+std::optional<envmap::RoomBox> room_of(const ServiceConfig& c, const RigScene& scene) {
   if (c.light_room == "box") return envmap::RoomBox{c.light_room_min, c.light_room_max};
-  // The default: the sim's room has a known box (so `probeless run` lights the objects from
-  // the keyframe reprojected to them); a real room's is not known without a config.
-  if (c.light_room == "auto") {
-    if (is_sim(c.source)) return light::sim_room_box();
-    return std::nullopt;
-  }
+  std::optional<envmap::RoomBox> rig_room;
+  if (scene.room) rig_room = envmap::RoomBox{scene.room->lo, scene.room->hi};
+  // The default: the rig's room when it knows one, as the sim does (so `probeless run` lights
+  // the objects from the keyframe reprojected to them); a real room's is not known without a
+  // config.
+  if (c.light_room == "auto") return rig_room;
   if (c.light_room == "sim") {
-    if (!is_sim(c.source))
+    if (!rig_room)
       throw std::invalid_argument(
           "light capture: [light] room = \"sim\" needs the sim source, not " + c.source +
           " (use room = \"box\" with the room's extent)");
-    return light::sim_room_box();
+    return rig_room;
   }
   return std::nullopt;
 }
@@ -93,14 +88,14 @@ struct LightCapture::Estimator {
   light::ColourFill colour_fill;  // its buffers live between snapshots
 };
 
-LightCapture::LightCapture(const ServiceConfig& config, const RigCalibration& calibration)
+LightCapture::LightCapture(const ServiceConfig& config, const RigCalibration& calibration,
+                           const RigScene& scene)
     : config_(config), calibration_(calibration), estimator_(std::make_unique<Estimator>()) {
   (void)kannala_brandt(calibration_);  // fail at start, not on the first frame
-  room_ = room_of(config_);
+  room_ = room_of(config_, scene);
   // The objects are lit from the keyframe nearest to them (thesis ch. 6): their mean position,
   // each placed as scene_objects.cpp places it.
-  for (const ObjectConfig& o : config_.objects)
-    anchor_ += o.position.value_or(sim::object_anchor());
+  for (const ObjectConfig& o : config_.objects) anchor_ += object_position(o, scene);
   if (!config_.objects.empty()) anchor_ /= static_cast<double>(config_.objects.size());
   // With a room box the light is seen from 10 cm above that (the sim's light_probe_position()
   // for objects on its table anchor): the centre of a small object, not its foot.
@@ -325,7 +320,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
   int filled_texels = 0;
   if (config_.light_colour_fill && fill_rgbd_ && estimator_->colour &&
       estimator_->colour->estimate().valid) {
-    // Below the fisheye's horizon, the colour camera's view (app/light/colour_fill.hpp).
+    // Below the fisheye's horizon, the colour camera's view (kernels/light/colour_fill.hpp).
     if (const auto T_world_rig = rig_pose_at(fill_rgbd_->timestamp_ns, fill_rgbd_->truth)) {
       const auto filled = estimator_->colour_fill.fill(
           snap->texels, snap->position, *fill_rgbd_, calibration_.rgb.intrinsics(),

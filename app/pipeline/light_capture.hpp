@@ -21,6 +21,7 @@
 #include "core/calibration.hpp"
 #include "core/frame.hpp"
 #include "core/sh.hpp"
+#include "drivers/source.hpp"
 #include "kernels/envmap/envmap_types.hpp"
 #include "kernels/envmap/keyframe_reprojection.hpp"
 
@@ -52,8 +53,11 @@ struct LightSnapshot {
 class LightCapture {
  public:
   // Throws std::invalid_argument when the rig's fisheye model is not one the update kernel
-  // implements (Kannala-Brandt); the pipeline then runs without light capture and says so.
-  LightCapture(const ServiceConfig& config, const RigCalibration& calibration);
+  // implements (Kannala-Brandt), or [light] room = "sim" and the rig knows no room; the
+  // pipeline then runs without light capture and says so. The objects without a position
+  // and [light] room = "auto" | "sim" take the rig's scene.
+  LightCapture(const ServiceConfig& config, const RigCalibration& calibration,
+               const RigScene& scene);
   ~LightCapture();
   LightCapture(const LightCapture&) = delete;
   LightCapture& operator=(const LightCapture&) = delete;
@@ -123,7 +127,7 @@ class LightCapture {
   bool want_rgbd_ = true;
   std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took
   // The colour frame the exposure was last estimated on: what fills the snapshot below the
-  // fisheye's horizon ([light] colour_fill; app/light/colour_fill.hpp).
+  // fisheye's horizon ([light] colour_fill; kernels/light/colour_fill.hpp).
   std::shared_ptr<const RgbdFrame> fill_rgbd_;
   int colour_filled_texels_ = 0;
   TimestampNs last_colour_exposure_ns_ = 0;

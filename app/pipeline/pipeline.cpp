@@ -10,6 +10,7 @@
 #include "app/outputs/rtsp_server.hpp"
 #include "app/pipeline/frame_processor.hpp"
 #include "app/pipeline/light_capture.hpp"
+#include "app/pipeline/scene_objects.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
 #include "drivers/trigger/gpio_trigger.hpp"
 
@@ -27,6 +28,7 @@ double ms_since(std::chrono::steady_clock::time_point t0) {
 Pipeline::Pipeline(ServiceConfig config, Rig rig, PipelineOptions options)
     : config_(std::move(config)), rig_(std::move(rig)), options_(options) {
   if (!rig_.rgbd) throw std::invalid_argument("pipeline: the rig has no RGB-D source");
+  place_objects(config_.objects, rig_.scene);
   if (options_.lossless) stats_.keep_all(true);
 }
 
@@ -77,7 +79,7 @@ void Pipeline::start() {
   }
   if (rig_.fisheye && config_.light_enabled) {
     try {
-      light_ = std::make_unique<LightCapture>(config_, rig_.calibration);
+      light_ = std::make_unique<LightCapture>(config_, rig_.calibration, rig_.scene);
     } catch (const std::invalid_argument& e) {
       spdlog::warn("light capture off: {}", e.what());
     }

@@ -4,7 +4,6 @@
 #include <numbers>
 
 #include "app/render/prt/prt.hpp"
-#include "drivers/sim/sim_rig.hpp"
 #include "kernels/runtime/compute_context.hpp"
 
 namespace probeless {
@@ -41,6 +40,19 @@ render::Mesh world_mesh(const std::vector<render::VirtualObject>& objects) {
 
 }  // namespace
 
+Eigen::Vector3d default_object_anchor() {
+  return {0.0, 0.6, 0.75};
+}
+
+Eigen::Vector3d object_position(const ObjectConfig& object, const RigScene& scene) {
+  if (object.position) return *object.position;
+  return scene.object_anchor.value_or(default_object_anchor()) + object.anchor_offset;
+}
+
+void place_objects(std::vector<ObjectConfig>& objects, const RigScene& scene) {
+  for (ObjectConfig& o : objects) o.position = object_position(o, scene);
+}
+
 std::filesystem::path default_prt_cache_dir() {
   const std::filesystem::path opencl = default_program_cache_dir();
   return opencl.empty() ? opencl : opencl.parent_path() / "prt";
@@ -66,7 +78,7 @@ std::vector<render::VirtualObject> make_scene_objects(const std::vector<ObjectCo
     o.material.ior = static_cast<float>(c.ior);
     o.T_world_object.rotation =
         Eigen::AngleAxisd(c.yaw_deg * std::numbers::pi / 180.0, Eigen::Vector3d::UnitZ());
-    const Eigen::Vector3d base = c.position.value_or(sim::object_anchor());
+    const Eigen::Vector3d base = object_position(c, RigScene{});
     o.T_world_object.translation = base - Eigen::Vector3d(0, 0, bottom * c.scale);
     lowest = std::min(lowest, base.z());
     if (o.material.shading == Shading::PrtDiffuse) {

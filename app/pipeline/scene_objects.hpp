@@ -4,12 +4,23 @@
 
 #include "app/pipeline/service_config.hpp"
 #include "app/render/renderer.hpp"
+#include "drivers/source.hpp"
 
 namespace probeless {
 
+// Where objects stand on a rig that knows no object anchor (a camera, a recording): the
+// synthetic rig's table anchor, which its recordings share (docs/configuration.md). The sim
+// tests hold it equal to sim::object_anchor().
+Eigen::Vector3d default_object_anchor();
+// Where an object's lowest point stands: its position, else the rig's object anchor (or
+// default_object_anchor()) moved by its anchor_offset.
+Eigen::Vector3d object_position(const ObjectConfig& object, const RigScene& scene);
+// Sets every object's position (object_position()): once the rig is known.
+void place_objects(std::vector<ObjectConfig>& objects, const RigScene& scene);
+
 // Virtual objects from config: meshes built or loaded once, placed in the world frame. An
 // object's `position` is where its lowest point stands (so a sphere rests on the table rather
-// than sinking into it); without one it stands on the synthetic rig's table anchor.
+// than sinking into it); without one, object_position() with no rig anchor.
 //
 // Materials map to render::Material::Shading (docs/rendering.md). A `prt` object's transfer
 // is baked at load (app/render/prt/, with the ground plane under it blocking the light from

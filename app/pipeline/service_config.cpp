@@ -12,7 +12,6 @@
 #include "app/pipeline/board_file.hpp"
 #include "core/error.hpp"
 #include "core/toml_reader.hpp"
-#include "drivers/sim/sim_rig.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
 
 namespace probeless {
@@ -59,12 +58,12 @@ std::vector<ObjectConfig> default_objects() {
   sphere.shape = "sphere";
   sphere.material = "mirror";
   sphere.color = {0.95f, 0.95f, 0.95f};  // polished steel reflects ~60-95 %; chrome-like
-  sphere.position = sim::object_anchor() + Eigen::Vector3d(-0.15, 0.0, 0.0);
+  sphere.anchor_offset = Eigen::Vector3d(-0.15, 0.0, 0.0);
   ObjectConfig pawn;
   pawn.shape = "pawn";
   pawn.material = "prt";
   pawn.color = {0.75f, 0.18f, 0.12f};
-  pawn.position = sim::object_anchor() + Eigen::Vector3d(0.15, 0.0, 0.0);
+  pawn.anchor_offset = Eigen::Vector3d(0.15, 0.0, 0.0);
   return {sphere, pawn};
 }
 

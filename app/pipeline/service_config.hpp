@@ -18,7 +18,11 @@ struct ObjectConfig {
   std::string shape = "pawn";  // built-in: "pawn", "sphere", "box"; ignored when model is set
   std::string model;           // path to a .gltf/.glb/.obj file (relative to the config file)
   std::optional<Eigen::Vector3d> position;  // world metres; default: the rig's object anchor
-  double yaw_deg = 0;                       // rotation about world z
+  // Without a position: where the object stands from the rig's object anchor (not a config
+  // key; the demo scene's objects stand beside each other across it). place_objects()
+  // resolves it once the rig is known (app/pipeline/scene_objects.hpp).
+  Eigen::Vector3d anchor_offset = Eigen::Vector3d::Zero();
+  double yaw_deg = 0;  // rotation about world z
   double scale = 1.0;
   Eigen::Vector3f color{0.75f, 0.18f, 0.12f};  // linear base colour
   // How it is shaded (docs/rendering.md "Materials"): lambert (fixed placeholder light),
@@ -95,7 +99,7 @@ struct ServiceConfig {
   // axis-aligned box from light_room_min to light_room_max, world metres). With a room the
   // SH is of the keyframe seen from the first object.
   // Texels the fisheye never saw (below its horizon: the table) from the colour camera
-  // (app/light/colour_fill.hpp). On: `eval render`'s chrome sphere 0.256 -> 0.249, its lower
+  // (kernels/light/colour_fill.hpp). On: `eval render`'s chrome sphere 0.256 -> 0.249, its lower
   // half 0.53 -> 0.25 (docs/light-capture.md "Below the horizon").
   bool light_colour_fill = true;
   std::string light_room = "auto";  // off | auto (sim's box under the sim) | sim | box

@@ -6,14 +6,10 @@
 
 namespace probeless {
 
-namespace {
-
-double distorted_angle(const std::array<double, 4>& k, double theta) {
+double kannala_brandt_distorted_angle(const std::array<double, 4>& k, double theta) {
   const double t2 = theta * theta;
   return theta * (1.0 + t2 * (k[0] + t2 * (k[1] + t2 * (k[2] + t2 * k[3]))));
 }
-
-}  // namespace
 
 KannalaBrandtCamera::KannalaBrandtCamera(KannalaBrandtParams p) : p_(p) {
   if (p_.width <= 0 || p_.height <= 0 || !(p_.fx > 0) || !(p_.fy > 0) || !(p_.max_theta > 0))
@@ -40,7 +36,7 @@ std::optional<Eigen::Vector2d> KannalaBrandtCamera::project(const Eigen::Vector3
     if (!(p.z() > 0)) return std::nullopt;
     return Eigen::Vector2d(p_.cx, p_.cy);
   }
-  const double s = distorted_angle(p_.k, theta) / r;
+  const double s = kannala_brandt_distorted_angle(p_.k, theta) / r;
   return Eigen::Vector2d(p_.fx * s * p.x() + p_.cx, p_.fy * s * p.y() + p_.cy);
 }
 
@@ -50,7 +46,8 @@ std::optional<Eigen::Vector3d> KannalaBrandtCamera::unproject(const Eigen::Vecto
   if (!std::isfinite(theta_d)) return std::nullopt;
   if (theta_d == 0) return Eigen::Vector3d(0, 0, 1);
   // The model is valid (and, for sane k, monotonic) only up to max_theta.
-  if (theta_d > distorted_angle(p_.k, p_.max_theta) * (1 + 1e-12)) return std::nullopt;
+  if (theta_d > kannala_brandt_distorted_angle(p_.k, p_.max_theta) * (1 + 1e-12))
+    return std::nullopt;
 
   // Newton on theta_d(theta) - theta_d = 0, as cv::fisheye::undistortPoints does.
   const auto& k = p_.k;
@@ -58,7 +55,7 @@ std::optional<Eigen::Vector3d> KannalaBrandtCamera::unproject(const Eigen::Vecto
   bool converged = false;
   for (int i = 0; i < 20 && !converged; ++i) {
     const double t2 = theta * theta;
-    const double f = distorted_angle(k, theta) - theta_d;
+    const double f = kannala_brandt_distorted_angle(k, theta) - theta_d;
     const double df = 1.0 + t2 * (3 * k[0] + t2 * (5 * k[1] + t2 * (7 * k[2] + t2 * 9 * k[3])));
     if (!(df > 0)) return std::nullopt;
     const double step = f / df;
@@ -66,7 +63,7 @@ std::optional<Eigen::Vector3d> KannalaBrandtCamera::unproject(const Eigen::Vecto
     converged = std::abs(step) < 1e-14;
   }
   if (!(theta >= 0 && theta <= p_.max_theta * (1 + 1e-12))) return std::nullopt;
-  if (std::abs(distorted_angle(k, theta) - theta_d) > 1e-10) return std::nullopt;
+  if (std::abs(kannala_brandt_distorted_angle(k, theta) - theta_d) > 1e-10) return std::nullopt;
   const double s = std::sin(theta) / theta_d;
   return Eigen::Vector3d(s * mx, s * my, std::cos(theta));
 }

@@ -18,6 +18,10 @@ struct KannalaBrandtParams {
   bool operator==(const KannalaBrandtParams&) const = default;
 };
 
+// The model's theta_d for an angle theta from the axis (radians): the polynomial above. What
+// project() scales by, and, at max_theta, the radius of the image circle in focal lengths.
+double kannala_brandt_distorted_angle(const std::array<double, 4>& k, double theta);
+
 class KannalaBrandtCamera final : public CameraModel {
  public:
   explicit KannalaBrandtCamera(KannalaBrandtParams p);

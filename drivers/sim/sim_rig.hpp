@@ -56,8 +56,9 @@ struct SimOptions {
 // (seconds of world time at the first frame).
 SimOptions parse_sim_options(std::string_view spec);
 
-// Rig from drivers/source.hpp (rgbd + fisheye + calibration). Both sources share one
-// immutable world and may be read concurrently from two threads.
+// Rig from drivers/source.hpp (rgbd + fisheye + calibration, and its scene: object_anchor()
+// and room_bounds()). Both sources share one immutable world and may be read concurrently
+// from two threads.
 Rig make_sim_rig(const SimOptions& options);
 
 // Where virtual objects stand: the centre of the table top in the world frame (z up), and

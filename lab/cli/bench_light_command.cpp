@@ -11,11 +11,11 @@
 #include <nlohmann/json.hpp>
 
 #include "lab/cli/lab_commands.hpp"
-#include "app/light/light_estimator.hpp"
-#include "app/light/room_proxy.hpp"
+#include "base/stage_stats.hpp"
 #include "core/exposure_count.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 #include "drivers/sim/sim_rig.hpp"
+#include "kernels/light/light_estimator.hpp"
 
 namespace probeless::cli {
 namespace {
@@ -37,7 +37,7 @@ void run(const Options& o) {
   light::LightEstimatorConfig config;
   config.keyframes.face_size = o.face_size;
   if (o.room) {  // as the service runs the sim with room = "sim": SH at the object
-    config.room = light::sim_room_box();
+    config.room = envmap::RoomBox{rig.scene.room->lo, rig.scene.room->hi};
     config.sh_position = sim::light_probe_position();
   }
   light::LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, config);
@@ -52,6 +52,8 @@ void run(const Options& o) {
   // download), which gives the headline total; odd ones wait after each stage, which gives
   // the breakdown (and a total that includes three more waits for the queue).
   std::vector<double> total_ms, total_cpu_ms, staged_ms, staged_cpu_ms;
+  StageStats stats;  // per step: its wall-clock time as NAME, its CPU time as "cpu:NAME"
+  stats.keep_all(true);
   for (int i = 0; i < warmup + 2 * o.frames; ++i) {
     const ExposureStamp stamp = sequencer.next();
     rig.fisheye->set_next_exposure(stamp);
@@ -61,17 +63,21 @@ void run(const Options& o) {
     const bool staged = i % 2 == 1;
     estimator.set_time_stages(staged);
     estimator.process(frame, *frame.truth->rig_pose);  // timed inside
+    const light::LightTimings& t = estimator.last_timings();
+    for (const light::LightStepTime& step : t.steps) {
+      stats.record(std::string(step.step), step.wall_ms);
+      stats.record("cpu:" + std::string(step.step), step.cpu_ms);
+    }
     if (i >= warmup) {
-      (staged ? staged_ms : total_ms).push_back(estimator.stats().all_samples("total").back());
-      (staged ? staged_cpu_ms : total_cpu_ms)
-          .push_back(estimator.stats().all_samples("cpu:total").back());
+      (staged ? staged_ms : total_ms).push_back(t.total.wall_ms);
+      (staged ? staged_cpu_ms : total_cpu_ms).push_back(t.total.cpu_ms);
     }
     sequencer.observe(frame.exposure,
                       count_exposure(frame.raw, frame.bit_depth, frame.black_level));
   }
   // Every staged sample after the warm-up frames (compiling, first allocations).
   const auto timed = [&](const char* stage) {
-    std::vector<double> all = estimator.stats().all_samples(stage);
+    std::vector<double> all = stats.all_samples(stage);
     all.erase(all.begin(), all.begin() + std::min<std::ptrdiff_t>(warmup / 2, std::ssize(all)));
     return summarize(std::move(all));
   };

@@ -18,8 +18,8 @@
 #include "lab/eval/cvf_opencv_reference.hpp"
 #include "lab/eval/matte_metrics.hpp"
 #include "lab/eval/middlebury_dataset.hpp"
-#include "kernels/occlusion/cvf_matte.hpp"
-#include "kernels/occlusion/cvf_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_matte.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 
 namespace probeless::cli {
 namespace {

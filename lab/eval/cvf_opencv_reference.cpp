@@ -5,8 +5,8 @@
 #include <opencv2/ximgproc/edge_filter.hpp>
 #include <vector>
 
-#include "kernels/occlusion/categorise_reference.hpp"
-#include "kernels/occlusion/cvf_reference.hpp"
+#include "kernels/occlusion/common/categorise_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 
 namespace probeless::eval {
 using namespace probeless::occlusion;

@@ -4,7 +4,7 @@
 // of `probeless bench occlusion`. Same method and parameters as cvf_reference.hpp, always
 // with the exact (not subsampled) wide filter.
 #include "core/image.hpp"
-#include "kernels/occlusion/cvf_params.hpp"
+#include "kernels/occlusion/common/cvf_params.hpp"
 
 namespace probeless::eval {
 

@@ -5,8 +5,9 @@
 #include <optional>
 #include <string>
 
-#include "app/light/light_estimator.hpp"
+#include "base/stage_stats.hpp"
 #include "drivers/sim/sim_world.hpp"
+#include "kernels/light/light_estimator.hpp"
 
 namespace probeless::light {
 

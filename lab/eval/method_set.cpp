@@ -1,14 +1,9 @@
 #include "lab/eval/method_set.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
-#include "kernels/occlusion/bilateral_matte.hpp"
-#include "kernels/occlusion/crabb_matte.hpp"
-#include "kernels/occlusion/cvf_matte.hpp"
-#include "kernels/occlusion/direct_matte.hpp"
-#include "kernels/occlusion/guided_matte.hpp"
-#include "kernels/occlusion/meta_soft_matte.hpp"
-#include "kernels/occlusion/soft_ramp_matte.hpp"
+#include "kernels/occlusion/method_registry.hpp"
 
 namespace probeless::eval {
 using namespace probeless::occlusion;
@@ -38,38 +33,21 @@ class CvfLocalHostMethod final : public OcclusionMethod {
 }  // namespace
 
 const std::vector<std::string>& all_method_names() {
-  static const std::vector<std::string> names = {
-      "cvf", "direct1", "direct2", "guided", "bilateral", "crabb", "arcore_soft", "meta_soft"};
-  return names;
+  return occlusion::method_names();
 }
 
 std::unique_ptr<OcclusionMethod> make_method(ComputeContext& ctx, const std::string& name,
                                              const MethodSettings& settings) {
-  const auto& cat = settings.cvf.categorise;
-  if (name == "cvf") return std::make_unique<CvfMatte>(ctx, settings.cvf);
-  if (name == "direct1") return std::make_unique<DirectMatte>(ctx, UnknownDepth::Occluded);
-  if (name == "direct2") return std::make_unique<DirectMatte>(ctx, UnknownDepth::Visible);
-  if (name == "guided") {
-    GuidedMatteParams p;
-    p.categorise = cat;
-    p.filter = {settings.cvf.wide.radius, settings.cvf.wide.eps, 1};
-    return std::make_unique<GuidedMatte>(ctx, p);
-  }
-  if (name == "bilateral") {
-    BilateralMatteParams p;
-    p.categorise = cat;
-    return std::make_unique<BilateralMatte>(ctx, p);
-  }
   if (name == "cvf_local") {
     CvfLocalParams p = settings.cvf_local;
-    p.cvf.categorise = cat;
+    p.cvf.categorise = settings.cvf.categorise;
     return std::make_unique<CvfLocalHostMethod>(ctx, p);
   }
-  if (name == "crabb") return std::make_unique<CrabbMatte>(ctx);
-  if (name == "arcore_soft") return std::make_unique<SoftRampMatte>(ctx);
-  if (name == "meta_soft") return std::make_unique<MetaSoftMatte>(ctx);
+  const auto& names = all_method_names();
+  if (std::find(names.begin(), names.end(), name) != names.end())
+    return occlusion::make_method(ctx, name, settings.cvf);
   std::string known;
-  for (const auto& n : all_method_names()) known += " " + n;
+  for (const auto& n : names) known += " " + n;
   known += " cvf_local";
   throw std::invalid_argument("unknown occlusion method '" + name + "' (known:" + known + ")");
 }

@@ -1,16 +1,18 @@
 #pragma once
-// The occlusion methods the evaluator and the benchmark compare, by config name.
+// The occlusion methods the evaluator and the benchmark compare, by config name: the device
+// methods of kernels/occlusion/method_registry.hpp and the evaluation-only ones.
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "kernels/occlusion/cvf_local_reference.hpp"
-#include "kernels/occlusion/cvf_params.hpp"
-#include "kernels/occlusion/occlusion_method.hpp"
+#include "kernels/occlusion/common/cvf_params.hpp"
+#include "kernels/occlusion/common/occlusion_method.hpp"
+#include "kernels/occlusion/cvf/cvf_local_reference.hpp"
 
 namespace probeless::eval {
 
-// In the order of the report: cvf direct1 direct2 guided bilateral crabb arcore_soft meta_soft.
+// In the order of the report: cvf direct1 direct2 guided bilateral crabb arcore_soft meta_soft
+// (occlusion::method_names()).
 const std::vector<std::string>& all_method_names();
 
 struct MethodSettings {

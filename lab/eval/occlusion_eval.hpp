@@ -1,6 +1,6 @@
 #pragma once
 // `probeless eval occlusion`: runs every occlusion method over the cases of a protocol and
-// scores the mattes (app/eval/matte_metrics.hpp). docs/occlusion.md "Evaluation".
+// scores the mattes (lab/eval/matte_metrics.hpp). docs/occlusion.md "Evaluation".
 #include <cstdint>
 #include <filesystem>
 #include <map>

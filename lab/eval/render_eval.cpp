@@ -165,7 +165,8 @@ RenderEvalReport evaluate_render_sim(const RenderEvalOptions& o) {
                                        o.sim_spec.empty() ? "" : "," + o.sim_spec);
   const sim::SimOptions sim_options = sim::parse_sim_options(spec);
   Rig rig = sim::make_sim_rig(sim_options);
-  LightCapture capture(config, rig.calibration);
+  place_objects(config.objects, rig.scene);
+  LightCapture capture(config, rig.calibration, rig.scene);
   if (!capture.initialise())
     throw std::runtime_error("eval render: light capture: " +
                              capture.status().value("error", std::string("failed")));

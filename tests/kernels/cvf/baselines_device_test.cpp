@@ -4,12 +4,12 @@
 #include <cmath>
 #include <random>
 
-#include "kernels/occlusion/bilateral_matte.hpp"
-#include "kernels/occlusion/crabb_matte.hpp"
-#include "kernels/occlusion/crabb_matte_reference.hpp"
-#include "kernels/occlusion/guided_matte.hpp"
-#include "kernels/occlusion/meta_soft_matte.hpp"
-#include "kernels/occlusion/soft_ramp_matte.hpp"
+#include "kernels/occlusion/baselines/bilateral_matte.hpp"
+#include "kernels/occlusion/baselines/crabb_matte.hpp"
+#include "kernels/occlusion/baselines/crabb_matte_reference.hpp"
+#include "kernels/occlusion/baselines/guided_matte.hpp"
+#include "kernels/occlusion/baselines/meta_soft_matte.hpp"
+#include "kernels/occlusion/baselines/soft_ramp_matte.hpp"
 
 namespace probeless::occlusion {
 namespace {

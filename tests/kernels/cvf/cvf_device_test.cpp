@@ -5,12 +5,12 @@
 #include <cmath>
 #include <random>
 
-#include "kernels/occlusion/cvf_guided.hpp"
-#include "kernels/occlusion/cvf_kernel_args.hpp"
-#include "kernels/occlusion/cvf_matte.hpp"
-#include "kernels/occlusion/cvf_reference.hpp"
-#include "kernels/occlusion/guided_filter.hpp"
-#include "kernels/occlusion/guided_filter_reference.hpp"
+#include "kernels/occlusion/common/cvf_kernel_args.hpp"
+#include "kernels/occlusion/common/guided_filter.hpp"
+#include "kernels/occlusion/common/guided_filter_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_guided.hpp"
+#include "kernels/occlusion/cvf/cvf_matte.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 
 namespace probeless::occlusion {
 namespace {

@@ -1,15 +1,15 @@
 // The CPU references of CVF against first principles: the guided filter against brute-force
 // window sums in double precision, the categories, band, histograms and costs on hand-made
 // inputs with known answers, and the whole method on a scene where colour decides.
-#include "kernels/occlusion/cvf_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "kernels/occlusion/categorise_reference.hpp"
-#include "kernels/occlusion/guided_filter_reference.hpp"
+#include "kernels/occlusion/common/categorise_reference.hpp"
+#include "kernels/occlusion/common/guided_filter_reference.hpp"
 
 namespace probeless::occlusion {
 namespace {

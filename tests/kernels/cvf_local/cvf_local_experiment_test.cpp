@@ -16,11 +16,11 @@
 #include "lab/eval/matte_metrics.hpp"
 #include "lab/eval/occlusion_eval.hpp"
 #include "drivers/io/png.hpp"
-#include "kernels/occlusion/bilateral_matte_reference.hpp"
-#include "kernels/occlusion/categorise_reference.hpp"
-#include "kernels/occlusion/cvf_local_reference.hpp"
-#include "kernels/occlusion/cvf_reference.hpp"
-#include "kernels/occlusion/guided_matte_reference.hpp"
+#include "kernels/occlusion/baselines/bilateral_matte_reference.hpp"
+#include "kernels/occlusion/baselines/guided_matte_reference.hpp"
+#include "kernels/occlusion/common/categorise_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_local_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 #include "support/test_data.hpp"
 
 namespace probeless::occlusion {

@@ -10,8 +10,8 @@
 #include <random>
 
 #include "lab/eval/method_set.hpp"
-#include "kernels/occlusion/categorise_reference.hpp"
-#include "kernels/occlusion/cvf_local_histogram.hpp"
+#include "kernels/occlusion/common/categorise_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_local_histogram.hpp"
 #include "support/cl_context.hpp"
 
 namespace probeless::occlusion {

@@ -2,15 +2,15 @@
 // scenes where CVF's global model cannot decide and the local one can, the fallback to the
 // global model (pseudo-counts) and to the depth test, seam-free blending across tiles, and
 // the local prior's window counts against brute force.
-#include "kernels/occlusion/cvf_local_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_local_reference.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "kernels/occlusion/categorise_reference.hpp"
-#include "kernels/occlusion/cvf_reference.hpp"
+#include "kernels/occlusion/common/categorise_reference.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 
 namespace probeless::occlusion {
 namespace {

@@ -1,10 +1,10 @@
-#include "kernels/occlusion/direct_matte.hpp"
+#include "kernels/occlusion/baselines/direct_matte.hpp"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "kernels/occlusion/direct_matte_reference.hpp"
+#include "kernels/occlusion/baselines/direct_matte_reference.hpp"
 #include "support/cl_context.hpp"
 
 namespace probeless::occlusion {

@@ -1,5 +1,5 @@
-// The colour camera's view below the fisheye's horizon (app/light/colour_fill.hpp).
-#include "app/light/colour_fill.hpp"
+// The colour camera's view below the fisheye's horizon (kernels/light/colour_fill.hpp).
+#include "kernels/light/colour_fill.hpp"
 
 #include <gtest/gtest.h>
 

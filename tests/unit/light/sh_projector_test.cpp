@@ -1,4 +1,4 @@
-#include "app/light/sh_projector.hpp"
+#include "kernels/light/sh_projector.hpp"
 
 #include <gtest/gtest.h>
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "app/pipeline/light_capture.hpp"
+#include "app/pipeline/scene_objects.hpp"
 #include "core/error.hpp"
 #include "drivers/sim/sim_rig.hpp"
 
@@ -155,22 +156,52 @@ TEST(ServiceConfig, TheShippedConfigurationParses) {
   EXPECT_EQ(c.light_room, "sim");
 }
 
-// [light] room = "sim" takes the box from drivers/sim, and only with a sim source; "auto" (the
-// default) is the sim's box under the sim and no box under anything else.
+// [light] room = "sim" takes the rig's room box, and only from a rig that knows one (the sim);
+// "auto" (the default) is the rig's box when it has one and no box otherwise.
 TEST(LightCapture, RoomFromConfiguration) {
-  const RigCalibration calibration = sim::make_sim_rig(sim::SimOptions{}).calibration;
+  const Rig sim_rig = sim::make_sim_rig(sim::SimOptions{});
+  const RigCalibration& calibration = sim_rig.calibration;
+  const RigScene no_scene;  // a camera's or a recording's
   ServiceConfig c;
-  EXPECT_EQ(LightCapture(c, calibration).status()["room"], "sim");
+  EXPECT_EQ(LightCapture(c, calibration, sim_rig.scene).status()["room"], "sim");
   c.source = "replay:/data/rec1";
-  EXPECT_EQ(LightCapture(c, calibration).status()["room"], "off");
+  EXPECT_EQ(LightCapture(c, calibration, no_scene).status()["room"], "off");
   c.source = "sim";
   c.light_room = "sim";
-  EXPECT_NO_THROW(LightCapture(c, calibration));
+  EXPECT_NO_THROW(LightCapture(c, calibration, sim_rig.scene));
   c.source = "replay:/data/rec1";
-  EXPECT_THROW(LightCapture(c, calibration), std::invalid_argument);
+  EXPECT_THROW(LightCapture(c, calibration, no_scene), std::invalid_argument);
   c.light_room = "box";
   c.light_room_max = Eigen::Vector3d(3, 3, 3);
-  EXPECT_NO_THROW(LightCapture(c, calibration));
+  EXPECT_NO_THROW(LightCapture(c, calibration, no_scene));
+}
+
+// The sim's scene is drivers/sim's own geometry, and the demo objects stand 0.15 m either side
+// of its anchor, as default_objects() placed them when it read the anchor itself.
+TEST(RigScene, TheSimsAnchorAndRoomPlaceTheDemoScene) {
+  const Rig rig = sim::make_sim_rig(sim::SimOptions{});
+  ASSERT_TRUE(rig.scene.object_anchor && rig.scene.room);
+  EXPECT_EQ(*rig.scene.object_anchor, sim::object_anchor());
+  EXPECT_EQ(rig.scene.room->lo, sim::room_bounds()[0]);
+  EXPECT_EQ(rig.scene.room->hi, sim::room_bounds()[1]);
+  // Recordings of the sim share its world: a rig without an anchor stands objects there too.
+  EXPECT_EQ(default_object_anchor(), sim::object_anchor());
+
+  ServiceConfig c;
+  place_objects(c.objects, rig.scene);
+  ASSERT_EQ(c.objects.size(), 2u);
+  EXPECT_EQ(*c.objects[0].position, sim::object_anchor() + Eigen::Vector3d(-0.15, 0.0, 0.0));
+  EXPECT_EQ(*c.objects[1].position, sim::object_anchor() + Eigen::Vector3d(0.15, 0.0, 0.0));
+  // A position from the config wins; an object without one stands on the anchor.
+  ObjectConfig placed, unplaced;
+  placed.position = Eigen::Vector3d(1, 2, 3);
+  EXPECT_EQ(object_position(placed, rig.scene), Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(object_position(unplaced, rig.scene), sim::object_anchor());
+  RigScene elsewhere;
+  elsewhere.object_anchor = Eigen::Vector3d(1, 0, 0.5);
+  EXPECT_EQ(object_position(c.objects[0], elsewhere), *c.objects[0].position);  // already placed
+  EXPECT_TRUE(object_position(default_objects()[0], elsewhere)
+                  .isApprox(Eigen::Vector3d(0.85, 0, 0.5), 1e-15));
 }
 
 // [rtsp] is additive: off by default, every key parsed, bad values named with their line.

@@ -1,0 +1,131 @@
+#include "kernels/light/light_estimator.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+
+#include "core/camera/kannala_brandt.hpp"
+#include "kernels/envmap/keyframe_reprojection.hpp"
+
+namespace probeless::light {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// CPU time of the whole process (PoCL's threads included): LightStepTime::cpu_ms.
+double process_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
+}
+
+HdrConversionParams with_circle(HdrConversionParams p, const KannalaBrandtParams& cam) {
+  if (p.circle_radius == 0) {
+    // The image circle: where the model's max_theta lands.
+    const double theta_d = kannala_brandt_distorted_angle(cam.k, cam.max_theta);
+    p.circle_cx = static_cast<float>(cam.cx);
+    p.circle_cy = static_cast<float>(cam.cy);
+    p.circle_radius = static_cast<float>(theta_d * std::min(cam.fx, cam.fy));
+  }
+  return p;
+}
+
+}  // namespace
+
+LightEstimator::LightEstimator(ComputeContext& ctx, const KannalaBrandtParams& fisheye,
+                               const Pose& T_rig_fisheye, const LightEstimatorConfig& config)
+    : ctx_(ctx),
+      fisheye_(fisheye),
+      T_rig_fisheye_(T_rig_fisheye),
+      config_(config),
+      keyframes_(ctx, config.keyframes),
+      update_(ctx, config.update, with_circle(config.hdr, fisheye)),
+      push_pull_(ctx),
+      downsample_(ctx),
+      projector_(config.sh_face_size) {
+  if (config_.room) envmap::validate(*config_.room);
+}
+
+const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
+                                                const Pose& T_world_rig) {
+  const auto t0 = Clock::now();
+  const double cpu0 = process_cpu_ms();
+  auto t = t0;
+  double cpu = cpu0;
+  timings_.steps.clear();
+  const auto lap = [&](std::string_view step) {
+    if (!config_.time_stages) return;
+    ctx_.queue().finish();
+    const auto now = Clock::now();
+    const double cpu_now = process_cpu_ms();
+    timings_.steps.push_back(
+        {step, std::chrono::duration<double, std::milli>(now - t).count(), cpu_now - cpu});
+    t = now;
+    cpu = cpu_now;
+  };
+
+  // The update reads ~40 % of the frame's pixels, scattered: wrapping the frame's own memory
+  // (no copy on PoCL and on boards whose GPU shares it) saved the 6 MB copy, 0.5-0.7 ms
+  // (docs/performance.md "Light capture: bench light").
+  raw_ = DeviceImage<std::uint16_t, 3>::wrap_host(ctx_.context(), frame.raw);
+  lap("upload");
+
+  // Without a room box the environment is taken as distant, so where the fisheye is inside
+  // the keyframe's neighbourhood does not move the texels; with one, texels are points on its
+  // walls seen from the keyframe's position (docs/light-capture.md "Parallax").
+  const Pose T_world_fisheye = T_world_rig * T_rig_fisheye_;
+  envmap::Keyframe& keyframe = keyframes_.for_capture(T_world_fisheye.translation);
+  envmap::FisheyeView view;
+  view.camera = fisheye_;
+  view.R_camera_world = T_world_fisheye.rotation.toRotationMatrix().transpose();
+  view.room = config_.room;
+  view.position = T_world_fisheye.translation;
+  view.keyframe_position = keyframe.position;
+  const bool bracketing = frame.exposure.level != BracketLevel::Fixed;
+  const bool publish = !bracketing || frame.exposure.cycle_position == 3;
+  update_.update_raw(raw_, frame.bit_depth, frame.black_level, frame.exposure.exposure, view,
+                     publish, keyframe.texels, keyframe.pending);
+  ++keyframe.updates;
+  lap("update");
+
+  push_pull_.fill(keyframe.texels);
+  lap("push_pull");
+
+  downsample_.run(keyframe.texels, config_.sh_face_size, small_);
+  small_.download(ctx_.queue(), small_host_);  // blocking: waits for the whole queue
+  if (config_.room && config_.sh_position) {
+    // Seen from the object: the reprojection folded into the projection table, built the
+    // first time a keyframe is used (keyframes never move).
+    auto it = reprojected_.find(keyframe.id);
+    if (it == reprojected_.end())
+      it = reprojected_
+               .emplace(keyframe.id,
+                        ShProjector(config_.sh_face_size,
+                                    envmap::reprojection_constants(config_.room, keyframe.position,
+                                                                   *config_.sh_position)))
+               .first;
+    sh_ = it->second.project(small_host_);
+  } else {
+    sh_ = projector_.project(small_host_);
+  }
+  lap("sh");
+  timings_.total.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  timings_.total.cpu_ms = process_cpu_ms() - cpu0;
+  // raw_ reads frame.raw in place: the blocking download above has drained the queue, so
+  // nothing uses it after this returns.
+  return keyframe;
+}
+
+bool LightEstimator::process(const FisheyeFrame& frame, const Trajectory& rig) {
+  const auto pose = rig.at(frame.timestamp_ns);
+  if (!pose) return false;
+  process(frame, *pose);
+  return true;
+}
+
+envmap::ImageRGBAF LightEstimator::download(const envmap::Keyframe& keyframe) {
+  return keyframe.texels.download(ctx_.queue());
+}
+
+}  // namespace probeless::light

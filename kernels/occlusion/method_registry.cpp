@@ -1,0 +1,45 @@
+#include "kernels/occlusion/method_registry.hpp"
+
+#include <stdexcept>
+
+#include "kernels/occlusion/baselines/bilateral_matte.hpp"
+#include "kernels/occlusion/baselines/crabb_matte.hpp"
+#include "kernels/occlusion/baselines/direct_matte.hpp"
+#include "kernels/occlusion/baselines/guided_matte.hpp"
+#include "kernels/occlusion/baselines/meta_soft_matte.hpp"
+#include "kernels/occlusion/baselines/soft_ramp_matte.hpp"
+#include "kernels/occlusion/cvf/cvf_matte.hpp"
+
+namespace probeless::occlusion {
+
+const std::vector<std::string>& method_names() {
+  static const std::vector<std::string> names = {
+      "cvf", "direct1", "direct2", "guided", "bilateral", "crabb", "arcore_soft", "meta_soft"};
+  return names;
+}
+
+std::unique_ptr<OcclusionMethod> make_method(ComputeContext& ctx, const std::string& name,
+                                             const CvfParams& cvf) {
+  if (name == "cvf") return std::make_unique<CvfMatte>(ctx, cvf);
+  if (name == "direct1") return std::make_unique<DirectMatte>(ctx, UnknownDepth::Occluded);
+  if (name == "direct2") return std::make_unique<DirectMatte>(ctx, UnknownDepth::Visible);
+  if (name == "guided") {
+    GuidedMatteParams p;
+    p.categorise = cvf.categorise;
+    p.filter = {cvf.wide.radius, cvf.wide.eps, 1};
+    return std::make_unique<GuidedMatte>(ctx, p);
+  }
+  if (name == "bilateral") {
+    BilateralMatteParams p;
+    p.categorise = cvf.categorise;
+    return std::make_unique<BilateralMatte>(ctx, p);
+  }
+  if (name == "crabb") return std::make_unique<CrabbMatte>(ctx);
+  if (name == "arcore_soft") return std::make_unique<SoftRampMatte>(ctx);
+  if (name == "meta_soft") return std::make_unique<MetaSoftMatte>(ctx);
+  std::string known;
+  for (const auto& n : method_names()) known += " " + n;
+  throw std::invalid_argument("unknown occlusion method '" + name + "' (known:" + known + ")");
+}
+
+}  // namespace probeless::occlusion
