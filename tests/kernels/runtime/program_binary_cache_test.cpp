@@ -8,7 +8,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -28,8 +27,10 @@ class ProgramBinaryCacheTest : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   static std::string read(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    std::string bytes(fs::file_size(p), '\0');
+    std::ifstream(p, std::ios::binary)
+        .read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return bytes;
   }
 
   fs::path dir_;
