@@ -4,7 +4,6 @@
 #include "kernels/runtime/program_binary_cache.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -12,6 +11,7 @@
 #include <vector>
 
 #include "base/hash.hpp"
+#include "support/test_data.hpp"
 
 namespace probeless {
 namespace {
@@ -20,12 +20,6 @@ namespace fs = std::filesystem;
 
 class ProgramBinaryCacheTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("clbin-cache-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static std::string read(const fs::path& p) {
     std::string bytes(fs::file_size(p), '\0');
     std::ifstream(p, std::ios::binary)
@@ -33,7 +27,7 @@ class ProgramBinaryCacheTest : public ::testing::Test {
     return bytes;
   }
 
-  fs::path dir_;
+  const fs::path dir_ = testing::scratch_dir();
 };
 
 constexpr std::string_view kName = "my kernel!";

@@ -4,7 +4,6 @@
 #include "base/atomic_file.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
@@ -16,6 +15,7 @@
 
 #include "base/hash.hpp"
 #include "base/raw_bytes.hpp"
+#include "support/test_data.hpp"
 
 namespace probeless {
 namespace {
@@ -25,12 +25,6 @@ using Status = ChecksummedFile::Status;
 
 class AtomicFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("atomic-file-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static std::string read(const fs::path& p) {
     std::string bytes(fs::file_size(p), '\0');
     std::ifstream(p, std::ios::binary)
@@ -46,7 +40,7 @@ class AtomicFileTest : public ::testing::Test {
     return out;
   }
 
-  fs::path dir_;
+  const fs::path dir_ = testing::scratch_dir();
 };
 
 TEST_F(AtomicFileTest, WritesTheWholeFileAndLeavesNoTemporary) {
