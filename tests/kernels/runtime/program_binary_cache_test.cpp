@@ -4,15 +4,14 @@
 #include "kernels/runtime/program_binary_cache.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
 #include "base/hash.hpp"
+#include "support/test_data.hpp"
 
 namespace probeless {
 namespace {
@@ -21,18 +20,14 @@ namespace fs = std::filesystem;
 
 class ProgramBinaryCacheTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("clbin-cache-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static std::string read(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    std::string bytes(fs::file_size(p), '\0');
+    std::ifstream(p, std::ios::binary)
+        .read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return bytes;
   }
 
-  fs::path dir_;
+  const fs::path dir_ = testing::scratch_dir();
 };
 
 constexpr std::string_view kName = "my kernel!";

@@ -4,19 +4,18 @@
 #include "base/atomic_file.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "base/hash.hpp"
 #include "base/raw_bytes.hpp"
+#include "support/test_data.hpp"
 
 namespace probeless {
 namespace {
@@ -26,17 +25,11 @@ using Status = ChecksummedFile::Status;
 
 class AtomicFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("atomic-file-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static std::string read(const fs::path& p) {
-    std::ifstream f(p, std::ios::binary);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
+    std::string bytes(fs::file_size(p), '\0');
+    std::ifstream(p, std::ios::binary)
+        .read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    return bytes;
   }
   static void write_raw(const fs::path& p, const std::string& bytes) {
     std::ofstream(p, std::ios::binary | std::ios::trunc) << bytes;
@@ -47,7 +40,7 @@ class AtomicFileTest : public ::testing::Test {
     return out;
   }
 
-  fs::path dir_;
+  const fs::path dir_ = testing::scratch_dir();
 };
 
 TEST_F(AtomicFileTest, WritesTheWholeFileAndLeavesNoTemporary) {

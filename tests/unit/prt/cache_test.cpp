@@ -5,7 +5,6 @@
 
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <string>
 
 #include "app/render/prt/prt.hpp"
@@ -151,8 +150,9 @@ TEST_F(PrtCacheTest, FileNameAndBytesArePinned) {
   ASSERT_TRUE(cache.store("pawn", "prt bake key", {&a, &b}));
   const fs::path file = cache.path_for("pawn", "prt bake key");
   EXPECT_EQ(file.filename(), "prt-pawn-bc0abbc9be57a331.bin");
-  std::ifstream f(file, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::string bytes(fs::file_size(file), '\0');
+  std::ifstream(file, std::ios::binary)
+      .read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   EXPECT_EQ(bytes.size(), 368u);
   EXPECT_EQ(fnv1a64(bytes), 0x77f5d414da853215ULL);
   const auto hit = cache.load("pawn", "prt bake key", {2, 1});
