@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "app/cli/commands.hpp"
+#include "app/outputs/output.hpp"
 #include "app/pipeline/pipeline.hpp"
 #include "app/pipeline/stage_stats.hpp"
 #include "drivers/rig_factory.hpp"
@@ -31,6 +32,20 @@ struct BenchArgs {
   bool prerender = false;
 };
 
+// The MJPEG stream's share of the work without a port to serve it on: the service streams by
+// default, so the benchmark encodes each frame once as the service would, and drops it.
+class JpegSink final : public Output {
+ public:
+  explicit JpegSink(int quality) : quality_(quality) {}
+  std::string_view name() const override { return "jpeg_sink"; }
+  OutputNeeds needs() const override { return {.jpeg = true, .jpeg_quality = quality_}; }
+  void offer(const OutputFrame&) override {}
+  void stop() override {}
+
+ private:
+  int quality_;
+};
+
 void run_bench(const BenchArgs& args) {
   ServiceConfig config =
       args.config_path.empty() ? ServiceConfig{} : load_service_config(args.config_path);
@@ -49,6 +64,7 @@ void run_bench(const BenchArgs& args) {
   PipelineOptions options;
   options.lossless = true;
   options.serve_http = false;
+  options.outputs.push_back(std::make_shared<JpegSink>(config.http.jpeg_quality));
   Pipeline pipeline(config, open_rig(config.source), options);
   pipeline.start();
   if (!pipeline.wait_first_frame(std::chrono::minutes(2)))
