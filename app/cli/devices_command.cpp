@@ -148,25 +148,26 @@ void print_display(std::ostream& out, const DevicesOptions& opts) {
       }
       if (!line.empty()) out << label << line << '\n';
     }
-    const bool this_card =
-        config.display_card.empty() || card_path(config.display_card, "/dev/dri") == card.path;
+    const bool this_card = config.display.screen.card.empty() ||
+                           card_path(config.display.screen.card, "/dev/dri") == card.path;
     if (!chosen.empty() || !this_card || !card.error.empty()) continue;
     try {  // the service's rules (kms_modeset.cpp), on what was just listed
       const auto ci =
-          choose_connector(infos, config.display_connector, card.path.filename().string());
+          choose_connector(infos, config.display.screen.connector, card.path.filename().string());
       std::optional<ModeRequest> request;
-      if (!config.display_mode.empty()) request = parse_mode_request(config.display_mode);
+      if (!config.display.screen.mode.empty())
+        request = parse_mode_request(config.display.screen.mode);
       const auto& conn = card.connectors[ci];
       const auto mi = choose_mode(conn.modes, request, conn.info.name);
       chosen = fmt::format("{} {} {}", card.path.filename().string(), conn.info.name,
                            to_string(conn.modes[mi]));
     } catch (const DisplayError& e) {
-      if (!config.display_card.empty()) chosen = fmt::format("none - {}", e.what());
+      if (!config.display.screen.card.empty()) chosen = fmt::format("none - {}", e.what());
     }
   }
   out << fmt::format("  [display] {}: card '{}', connector '{}', mode '{}'\n",
-                     config.display_enabled ? "enabled" : "disabled", config.display_card,
-                     config.display_connector, config.display_mode);
+                     config.display.enabled ? "enabled" : "disabled", config.display.screen.card,
+                     config.display.screen.connector, config.display.screen.mode);
   out << "  selected: "
       << (chosen.empty() ? "none - no card has a matching connected connector" : chosen) << '\n';
 }

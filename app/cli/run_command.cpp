@@ -35,12 +35,12 @@ std::string status_line(const nlohmann::json& s) {
 void run(const RunArgs& args) {
   ServiceConfig config = load_service_config(args.config_path, args.board);
   if (!args.source.empty()) config.source = args.source;
-  if (!args.out_dir.empty()) config.output_dir = args.out_dir;
+  if (!args.out_dir.empty()) config.files.dir = args.out_dir;
   if (!args.occlusion.empty()) config.occlusion_method = args.occlusion;
-  if (!args.address.empty()) config.http_address = args.address;
-  if (args.port >= 0) config.http_port = args.port;
+  if (!args.address.empty()) config.http.address = args.address;
+  if (args.port >= 0) config.http.port = args.port;
   if (args.frames > 0) config.max_frames = args.frames;
-  if (args.matte) config.output_matte = true;
+  if (args.matte) config.files.write_matte = true;
 
   ShutdownSignals signals;  // SIGTERM/SIGINT only wake the loop below (app/service/signals.hpp)
   SystemdNotifier notifier;
@@ -54,8 +54,8 @@ void run(const RunArgs& args) {
               << "/stream, status: " << pipeline.url() << "/status)" << std::endl;
   if (!pipeline.rtsp_url().empty())
     std::cout << "probeless: H.264 stream " << pipeline.rtsp_url() << std::endl;
-  if (!config.output_dir.empty())
-    std::cout << "probeless: writing frames to " << config.output_dir << std::endl;
+  if (!config.files.dir.empty())
+    std::cout << "probeless: writing frames to " << config.files.dir.string() << std::endl;
 
   // The first frame includes OpenCL program builds (about a second each on PoCL when the
   // binary cache is cold), hence the generous wait.

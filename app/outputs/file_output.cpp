@@ -98,6 +98,24 @@ void FileOutput::stop() {
   if (writer_.joinable()) writer_.join();
 }
 
+void FileOutput::offer(const OutputFrame& frame) {
+  if (frame.no_signal) return;  // the files keep what the camera saw
+  FileOutputFrame f;
+  f.index = next_index_++;
+  f.timestamp_ns = frame.timestamp_ns;
+  f.color = frame.colour;
+  if (config_.write_matte && frame.matte) f.matte = frame.matte;
+  submit(std::move(f));
+}
+
+void FileOutput::add_status(nlohmann::json& status) const {
+  const auto s = stats();
+  status["file_output"] = {{"written", s.written},
+                           {"dropped", s.dropped},
+                           {"failed", s.failed},
+                           {"last_error", s.last_error}};
+}
+
 FileOutputStats FileOutput::stats() const {
   std::lock_guard lock(mutex_);
   return stats_;

@@ -8,7 +8,9 @@
 // submit() never waits for the disk. When the writer is behind, the oldest waiting frame is
 // dropped to make room and counted, so what is written follows the live picture and memory
 // stays bounded whatever the disk does. Files appear whole or not at all (written to .tmp,
-// then renamed).
+// then renamed). As a pipeline Output (app/outputs/output.hpp) it writes every frame but the
+// NO SIGNAL repeats, numbered in the order offered.
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -16,12 +18,14 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <thread>
 #include <variant>
 
 #include "app/outputs/jpeg_encoder.hpp"
+#include "app/outputs/output.hpp"
 #include "core/image.hpp"
 #include "core/time.hpp"
 
@@ -32,8 +36,9 @@ enum class ImageFileFormat { Jpeg, Png };
 // "jpeg", "jpg" or "png" (the config's output.format); std::invalid_argument otherwise.
 ImageFileFormat parse_image_file_format(std::string_view name);
 
+// [output] of the service config (docs/configuration.md) and `run --out DIR`.
 struct FileOutputConfig {
-  std::filesystem::path dir;
+  std::filesystem::path dir;  // empty: the service writes no files
   ImageFileFormat format = ImageFileFormat::Jpeg;
   int jpeg_quality = 90;  // files are kept: better than the stream's 80, still ~1/10 of PNG
   bool write_matte = false;
@@ -60,12 +65,12 @@ struct FileOutputStats {
 
 ImageGray8 matte_to_gray8(const ImageF& alpha);
 
-class FileOutput {
+class FileOutput final : public Output {
  public:
   // Creates the directory (std::filesystem::filesystem_error on failure) and starts the
   // writer thread.
   explicit FileOutput(FileOutputConfig config);
-  ~FileOutput();
+  ~FileOutput() override;
   FileOutput(const FileOutput&) = delete;
   FileOutput& operator=(const FileOutput&) = delete;
   FileOutput(FileOutput&&) = delete;
@@ -74,9 +79,15 @@ class FileOutput {
   // Queues the frame; returns at once. A frame without colour is ignored.
   void submit(FileOutputFrame frame);
   // Writes what is still queued, then joins the writer. Safe to call twice.
-  void stop();
+  void stop() override;
   FileOutputStats stats() const;
   const FileOutputConfig& config() const { return config_; }
+
+  // Output: the composite, and the matte with write_matte.
+  std::string_view name() const override { return "files"; }
+  OutputNeeds needs() const override { return {.colour = true, .matte = config_.write_matte}; }
+  void offer(const OutputFrame& frame) override;
+  void add_status(nlohmann::json& status) const override;
 
  private:
   void run();
@@ -88,6 +99,7 @@ class FileOutput {
   std::deque<FileOutputFrame> queue_;
   bool stopping_ = false;
   FileOutputStats stats_;
+  std::atomic<std::uint64_t> next_index_{0};  // offer()'s numbering
   JpegEncoder encoder_;       // writer thread only (constructed here to check the quality)
   std::ofstream index_file_;  // frames.txt; writer thread only
   std::thread writer_;

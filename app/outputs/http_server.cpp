@@ -501,7 +501,7 @@ nlohmann::json to_json(const HttpServerStats& stats) {
 }
 
 HttpServer::HttpServer(HttpServerConfig config, StatusCallback status)
-    : impl_(std::make_unique<Impl>()) {
+    : impl_(std::make_unique<Impl>()), jpeg_quality_(config.jpeg_quality) {
   impl_->config = std::move(config);
   impl_->status = std::move(status);
   try {

@@ -8,11 +8,11 @@
 //   GET /status    JSON: the service's status callback plus this server's counters
 //   GET /          a self-contained viewer page (the stream and the status table)
 //
-// Frames arrive already encoded (once, whatever the number of clients) through publish(),
-// which never blocks: it replaces the value in a LatestFrame slot and wakes the server's
-// thread. Every stream client gets the newest frame; one whose socket does not keep up has
-// frames skipped (counted as its drops) instead of slowing the pipeline or other clients.
-// docs/outputs.md has the details.
+// Frames arrive already encoded (once, whatever the number of clients) through publish()
+// (or offer(), as an Output of the pipeline, app/outputs/output.hpp), which never blocks: it
+// replaces the value in a LatestFrame slot and wakes the server's thread. Every stream client gets
+// the newest frame; one whose socket does not keep up has frames skipped (counted as its drops)
+// instead of slowing the pipeline or other clients. docs/outputs.md has the details.
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "app/outputs/output.hpp"
 #include "core/time.hpp"
 
 namespace probeless {
@@ -32,7 +33,9 @@ struct EncodedFrame {
   TimestampNs timestamp_ns = 0;  // the frame's capture time (CLOCK_MONOTONIC)
 };
 
+// [http] of the service config (docs/configuration.md).
 struct HttpServerConfig {
+  bool enabled = true;                // the service's; the server itself ignores it
   std::string address = "127.0.0.1";  // IPv4 or IPv6 literal; "0.0.0.0" opens to the network
   int port = 8080;                    // 0: an ephemeral port (tests), see HttpServer::port()
   // An already listening socket to serve instead of binding (systemd socket activation:
@@ -47,6 +50,7 @@ struct HttpServerConfig {
   // Requests other than streams (and idle keep-alive connections) time out after this.
   std::chrono::seconds request_timeout{30};
   int max_stream_clients = 32;  // more get 503: an SBC's uplink is the limit long before
+  int jpeg_quality = 80;        // of the frames the pipeline encodes for this server
 };
 
 struct StreamClientStats {
@@ -70,7 +74,7 @@ struct HttpServerError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-class HttpServer {
+class HttpServer final : public Output {
  public:
   // Called on the server's thread for every GET /status; must be thread-safe with respect
   // to the pipeline. An object is served with this server's stats added under "http".
@@ -78,20 +82,25 @@ class HttpServer {
 
   // Binds and starts serving; throws HttpServerError naming the address when it cannot.
   explicit HttpServer(HttpServerConfig config, StatusCallback status = {});
-  ~HttpServer();
+  ~HttpServer() override;
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
   HttpServer(HttpServer&&) = delete;
   HttpServer& operator=(HttpServer&&) = delete;
 
-  int port() const;         // the bound port (the ephemeral one when configured with 0)
-  std::string url() const;  // "http://127.0.0.1:8080"
+  int port() const;                  // the bound port (the ephemeral one when configured with 0)
+  std::string url() const override;  // "http://127.0.0.1:8080"
 
   // Any thread, never blocks on clients. Frames without data are ignored.
   void publish(EncodedFrame frame);
 
   // Closes every connection and joins the thread (well under a second). Idempotent.
-  void stop();
+  void stop() override;
+
+  // Output: the JPEG at the configured quality, published as it comes.
+  std::string_view name() const override { return "http"; }
+  OutputNeeds needs() const override { return {.jpeg = true, .jpeg_quality = jpeg_quality_}; }
+  void offer(const OutputFrame& frame) override { publish({frame.jpeg, frame.timestamp_ns}); }
 
   HttpServerStats stats() const;
 
@@ -99,6 +108,7 @@ class HttpServer {
 
  private:
   std::unique_ptr<Impl> impl_;
+  int jpeg_quality_;
 };
 
 }  // namespace probeless

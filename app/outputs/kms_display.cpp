@@ -4,6 +4,9 @@
 
 #include <condition_variable>
 
+#include "app/outputs/display/display_mode.hpp"
+#include "app/outputs/display/kms_screen.hpp"
+
 namespace probeless {
 
 using namespace std::chrono_literals;

@@ -1,10 +1,11 @@
 #pragma once
-// The tethered display as a pipeline output (docs/display.md): the composite shown full
-// screen on a KMS connector, EGL on GBM, no display server. Like the other outputs it never
-// slows the pipeline: submit() replaces the newest frame in a LatestFrame slot and returns,
-// and the display's own thread draws, flips and waits for vblank, skipping frames it had no
-// time for. A screen that cannot be opened (no card yet, connector unplugged, another DRM
-// master) is retried every `retry_every`, with the reason in status() and logged once.
+// The tethered display as a pipeline output (docs/display.md, app/outputs/output.hpp): the
+// composite shown full screen on a KMS connector, EGL on GBM, no display server. Like the
+// other outputs it never slows the pipeline: submit() replaces the newest frame in a
+// LatestFrame slot and returns, and the display's own thread draws, flips and waits for
+// vblank, skipping frames it had no time for. A screen that cannot be opened (no card yet,
+// connector unplugged, another DRM master) is retried every `retry_every`, with the reason
+// in status() and logged once.
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -13,14 +14,22 @@
 #include <string>
 #include <thread>
 
-#include "app/outputs/display/kms_screen.hpp"
+#include "app/outputs/display/kms_screen_config.hpp"
+#include "app/outputs/output.hpp"
 #include "base/latest_frame.hpp"
 #include "base/stage_stats.hpp"
 #include "core/image.hpp"
 
 namespace probeless {
+namespace display {
+class KmsScreen;
+}
 
+// [display] of the service config (docs/configuration.md).
 struct KmsDisplayConfig {
+  // The service's: off by default, a service that grabs the console's screen must be asked
+  // to. The display itself ignores it.
+  bool enabled = false;
   display::KmsScreenConfig screen;
   std::chrono::milliseconds retry_every{2000};
 };
@@ -37,20 +46,26 @@ struct KmsDisplayStats {
   std::string last_error;
 };
 
-class KmsDisplay {
+class KmsDisplay final : public Output {
  public:
   // Checks the mode string at once (DisplayError), then opens the screen on its thread.
   explicit KmsDisplay(KmsDisplayConfig config);
-  ~KmsDisplay();
+  ~KmsDisplay() override;
   KmsDisplay(const KmsDisplay&) = delete;
   KmsDisplay& operator=(const KmsDisplay&) = delete;
 
   void submit(std::shared_ptr<const ImageRGB8> frame);
   // Joins the thread; the screen's destructor puts the previous CRTC back. Idempotent.
-  void stop();
+  void stop() override;
 
   KmsDisplayStats stats() const;
   nlohmann::json status() const;  // stats() for /status
+
+  // Output: NO SIGNAL frames too, the screen shows the fault.
+  std::string_view name() const override { return "display"; }
+  OutputNeeds needs() const override { return {.colour = true}; }
+  void offer(const OutputFrame& frame) override { submit(frame.colour); }
+  void add_status(nlohmann::json& j) const override { j["display"] = status(); }
 
  private:
   void run(std::stop_token stop);

@@ -10,21 +10,26 @@
 //
 // The encoder is the board's V4L2 memory-to-memory one (v4l2h264enc) when GStreamer has it,
 // else x264enc (ultrafast, zerolatency); encoder_name() says which. The GLib main loop runs
-// on this object's own thread. push() never blocks the pipeline: with no client playing, or
-// with the encoder `max_queued_frames` behind, the frame is dropped and counted.
-// docs/outputs.md "RTSP" has the details and the measured cost.
+// on this object's own thread. push() (offer() as a pipeline Output) never blocks the pipeline:
+// with no client playing, or with the encoder `max_queued_frames` behind, the frame is dropped and
+// counted. docs/outputs.md "RTSP" has the details and the measured cost.
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 
+#include "app/outputs/output.hpp"
 #include "core/image.hpp"
 #include "core/time.hpp"
 
 namespace probeless {
 
+// [rtsp] of the service config (docs/configuration.md).
 struct RtspServerConfig {
+  // The service's: off by default, it needs GStreamer's encoder plugins, which a minimal
+  // install may not have. The server itself ignores it.
+  bool enabled = false;
   std::string address = "127.0.0.1";  // as [http]: an appliance opens to the network on purpose
   int port = 8554;                    // the RTSP default; 0 takes an ephemeral port (tests)
   std::string path = "/probeless";    // "/name[/name...]" of letters, digits, '.', '_', '-'
@@ -63,19 +68,19 @@ std::string choose_h264_encoder(const std::string& wanted);
 // Throws RtspServerError for a mount path gst-rtsp-server would not serve as written.
 void check_rtsp_path(const std::string& path);
 
-class RtspServer {
+class RtspServer final : public Output {
  public:
   // Checks the plugins, binds and starts serving; throws RtspServerError with the reason
   // (port in use, encoder missing, bad path or config).
   explicit RtspServer(RtspServerConfig config);
-  ~RtspServer();
+  ~RtspServer() override;
   RtspServer(const RtspServer&) = delete;
   RtspServer& operator=(const RtspServer&) = delete;
   RtspServer(RtspServer&&) = delete;
   RtspServer& operator=(RtspServer&&) = delete;
 
   int port() const;                  // the bound port (the ephemeral one with port 0)
-  std::string url() const;           // "rtsp://127.0.0.1:8554/probeless"
+  std::string url() const override;  // "rtsp://127.0.0.1:8554/probeless"
   std::string encoder_name() const;  // "x264enc" or "v4l2h264enc"
 
   // Any thread; never blocks. The frame is referenced, not copied, until encoded.
@@ -83,7 +88,16 @@ class RtspServer {
   void push(std::shared_ptr<const ImageRGB8> frame, TimestampNs capture_ns);
 
   // Disconnects every client, stops the media and joins the thread. Idempotent.
-  void stop();
+  void stop() override;
+
+  // Output: the raw composite for the encoder. A NO SIGNAL repeat keeps the last good
+  // frame's capture time; the stream shows it now.
+  std::string_view name() const override { return "rtsp"; }
+  OutputNeeds needs() const override { return {.colour = true}; }
+  void offer(const OutputFrame& frame) override {
+    push(frame.colour, frame.no_signal ? monotonic_now_ns() : frame.timestamp_ns);
+  }
+  void add_status(nlohmann::json& status) const override { status["rtsp"] = to_json(stats()); }
 
   RtspServerStats stats() const;
 

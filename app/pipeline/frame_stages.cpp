@@ -17,14 +17,13 @@ RenderStage::RenderStage(std::vector<render::VirtualObject> objects, PinholeIntr
     image_based_ = image_based_ || o.material.shading != render::Material::Shading::Lambert;
 }
 
-void RenderStage::process(FrameWork& work) {
+VirtualLayer RenderStage::process(const Pose& T_world_camera) {
   const std::shared_ptr<const LightSnapshot> snap =
       image_based_ && light_ ? light_() : std::shared_ptr<const LightSnapshot>{};
-  work.hdr = snap && snap->colour_exposure_valid;
-  if (!work.hdr) {
-    work.virtual_view.output = render::ColourOutput::Display8;
-    renderer_.render({intrinsics_, work.T_world_camera}, placeholders_, work.virtual_view);
-    return;
+  if (!(snap && snap->colour_exposure_valid)) {
+    view_.output = render::ColourOutput::Display8;
+    renderer_.render({intrinsics_, T_world_camera}, placeholders_, view_);
+    return {LdrColour{&view_.color}, &view_.depth_mm};
   }
   if (snap->version != light_version_) {
     // A new keyframe copy: a new Environment, uploaded and prefiltered once for all objects.
@@ -34,52 +33,58 @@ void RenderStage::process(FrameWork& work) {
     for (auto& o : objects_) o.environment = env;
     light_version_ = snap->version;
   }
-  for (int c = 0; c < 3; ++c) work.camera.exposure[c] = snap->colour_exposure[c];
-  work.virtual_view.output = render::ColourOutput::LinearFloat;
-  renderer_.render({intrinsics_, work.T_world_camera}, objects_, work.virtual_view);
+  HdrRadiance hdr{&view_.radiance, {}};
+  for (int c = 0; c < 3; ++c) hdr.camera.exposure[c] = snap->colour_exposure[c];
+  view_.output = render::ColourOutput::LinearFloat;
+  renderer_.render({intrinsics_, T_world_camera}, objects_, view_);
+  return {hdr, &view_.depth_mm};
 }
 
-void UploadStage::process(FrameWork& work) {
+DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& layer) {
   auto& q = ctx_.queue();
-  // Non-blocking writes: the host images live until the frame is done (download waits).
-  work.color.upload(q, work.input->color, false);
-  work.real_depth.upload(q, work.input->depth, false);
-  if (work.hdr)
-    work.virtual_radiance.upload(q, work.virtual_view.radiance, false);
-  else
-    work.virtual_color.upload(q, work.virtual_view.color, false);
-  work.virtual_depth.upload(q, work.virtual_view.depth_mm, false);
-  if (!work.alpha.same_size(work.color)) {
-    work.alpha.resize(ctx_.context(), work.color.width(), work.color.height());
-    work.composite.resize(ctx_.context(), work.color.width(), work.color.height());
+  colour_.upload(q, frame.color, false);
+  real_depth_.upload(q, frame.depth, false);
+  DeviceFrame out{&colour_, &real_depth_, {}, &virtual_depth_};
+  if (const auto* hdr = std::get_if<HdrRadiance>(&layer.colour)) {
+    virtual_radiance_.upload(q, *hdr->radiance, false);
+    out.virtual_colour = DeviceHdrRadiance{&virtual_radiance_, hdr->camera};
+  } else {
+    virtual_colour_.upload(q, *std::get<LdrColour>(layer.colour).colour, false);
+    out.virtual_colour = DeviceLdrColour{&virtual_colour_};
   }
+  virtual_depth_.upload(q, *layer.depth_mm, false);
+  return out;
 }
 
-void OcclusionStage::process(FrameWork& work) {
-  method_->process({&work.color, &work.real_depth, &work.virtual_depth}, work.alpha);
+const DeviceImageF& OcclusionStage::process(const DeviceFrame& frame) {
+  alpha_.resize(ctx_.context(), frame.colour->width(), frame.colour->height());
+  method_->process({frame.colour, frame.real_depth, frame.virtual_depth}, alpha_);
+  return alpha_;
 }
 
-void CompositeStage::process(FrameWork& work) {
-  if (work.hdr)
-    hdr_.process(work.color, work.virtual_radiance, work.alpha, work.camera, work.composite);
+const DeviceImageRGB8& CompositeStage::process(const DeviceFrame& frame,
+                                               const DeviceImageF& matte) {
+  out_.resize(ctx_.context(), frame.colour->width(), frame.colour->height());
+  if (const auto* hdr = std::get_if<DeviceHdrRadiance>(&frame.virtual_colour))
+    hdr_.process(*frame.colour, *hdr->radiance, matte, hdr->camera, out_);
   else
-    composite_.process(work.color, work.virtual_color, work.alpha, work.composite);
+    composite_.process(*frame.colour, *std::get<DeviceLdrColour>(frame.virtual_colour).colour,
+                       matte, out_);
+  return out_;
 }
 
-void DownloadStage::process(FrameWork& work) {
+HostImages DownloadStage::process(const DeviceImageRGB8& composite, const DeviceImageF& matte) {
   auto& q = ctx_.queue();
   // Fresh images per frame: the outputs hold them through shared_ptr while the next frame
   // is processed (two 640x480 allocations per frame, measured negligible next to the work).
-  auto composite = std::make_shared<ImageRGB8>(work.composite.width(), work.composite.height());
-  work.composite.download(q, *composite);
-  work.composite_host = std::move(composite);
-  if (work.want_alpha) {
-    auto alpha = std::make_shared<ImageF>(work.alpha.width(), work.alpha.height());
-    work.alpha.download(q, *alpha);
-    work.alpha_host = std::move(alpha);
-  } else {
-    work.alpha_host.reset();
+  HostImages out;
+  out.composite = std::make_shared<ImageRGB8>(composite.width(), composite.height());
+  composite.download(q, *out.composite);
+  if (want_matte_) {
+    out.matte = std::make_shared<ImageF>(matte.width(), matte.height());
+    matte.download(q, *out.matte);
   }
+  return out;
 }
 
 }  // namespace probeless

@@ -1,11 +1,21 @@
 #pragma once
-// The per-frame stages of the processing thread. Each is a small class with the same
-// lifecycle (constructed from config on the processing thread, process() once per frame);
-// FrameWork is the blackboard they pass along. Device images stay on the device between
+// The per-frame stages of the processing thread. Each is a small class constructed from
+// config on the processing thread, with one typed call per frame: what it takes is what the
+// stage before it returned, so no stage reads a flag another one left behind.
+//
+//   render(pose)                    -> VirtualLayer  (host: LDR colour or HDR radiance, depth)
+//   upload(frame, layer)            -> DeviceFrame   (the real and the virtual images)
+//   occlusion(device frame)         -> the matte
+//   composite(device frame, matte)  -> the device composite
+//   download(composite, matte)      -> HostImages    (for the outputs)
+//
+// Each stage owns the images it returns and reuses them frame after frame; what it returns
+// refers to them and is valid until its next call. Device images stay on the device between
 // upload and download.
 #include <functional>
 #include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "app/pipeline/light_capture.hpp"
@@ -20,32 +30,42 @@
 
 namespace probeless {
 
-struct FrameWork {
-  const RgbdFrame* input = nullptr;
-  Pose T_world_camera;
-  render::RenderTarget virtual_view;  // host: RGBA8 colour or float radiance, + depth in mm
-  // The virtual layer is in radiance (the light capture's units), composited in HDR with the
-  // colour camera's response; false: display colour under the placeholder light.
-  bool hdr = false;
+// The virtual objects' colour: display colour under the placeholder light (before any light
+// is captured), or radiance in the light capture's units, composited in HDR with the colour
+// camera's response.
+struct LdrColour {
+  const ImageRGBA8* colour = nullptr;
+};
+struct HdrRadiance {
+  const render::ImageRGBAF* radiance = nullptr;
   CameraResponse camera;
-  DeviceImageRGB8 color;
-  DeviceDepthImage real_depth;
-  DeviceImageRGBA8 virtual_color;
-  DeviceImage<float, 4> virtual_radiance;
-  DeviceImageF virtual_depth;
-  DeviceImageF alpha;
-  DeviceImageRGB8 composite;
-  // Results on the host, handed to the outputs.
-  std::shared_ptr<ImageRGB8> composite_host;
-  std::shared_ptr<ImageF> alpha_host;  // only when an output wants the matte
-  bool want_alpha = false;
 };
 
-class FrameStage {
- public:
-  virtual ~FrameStage() = default;
-  virtual const char* name() const = 0;  // the key in /status "stages"
-  virtual void process(FrameWork& work) = 0;
+// The render stage's result, on the host.
+struct VirtualLayer {
+  std::variant<LdrColour, HdrRadiance> colour;
+  const ImageF* depth_mm = nullptr;  // along the optical axis; 0 where no object
+};
+
+// The upload stage's result: the real frame and the virtual layer on the device.
+struct DeviceLdrColour {
+  const DeviceImageRGBA8* colour = nullptr;
+};
+struct DeviceHdrRadiance {
+  const DeviceImage<float, 4>* radiance = nullptr;
+  CameraResponse camera;
+};
+struct DeviceFrame {
+  const DeviceImageRGB8* colour = nullptr;
+  const DeviceDepthImage* real_depth = nullptr;
+  std::variant<DeviceLdrColour, DeviceHdrRadiance> virtual_colour;
+  const DeviceImageF* virtual_depth = nullptr;
+};
+
+// The download stage's result, handed to the outputs.
+struct HostImages {
+  std::shared_ptr<ImageRGB8> composite;
+  std::shared_ptr<ImageF> matte;  // only when an output wants it
 };
 
 // Where the render stage gets the captured light; null or returning null: no light yet.
@@ -54,12 +74,12 @@ using LightSource = std::function<std::shared_ptr<const LightSnapshot>()>;
 // Renders the virtual objects at the colour camera's pose and intrinsics. With a light
 // snapshot whose colour exposure is known, the image-based materials are lit by its keyframe
 // and the layer is radiance for the HDR compositor; before that, the placeholder objects.
-class RenderStage final : public FrameStage {
+class RenderStage {
  public:
   RenderStage(std::vector<render::VirtualObject> objects, PinholeIntrinsics intrinsics,
               LightSource light = {});
-  const char* name() const override { return "render"; }
-  void process(FrameWork& work) override;
+  static constexpr const char* name = "render";  // the key in /status "stages", as below
+  VirtualLayer process(const Pose& T_world_camera);
 
  private:
   render::Renderer renderer_;
@@ -69,52 +89,64 @@ class RenderStage final : public FrameStage {
   LightSource light_;
   std::uint64_t light_version_ = 0;
   bool image_based_ = false;
+  render::RenderTarget view_;  // host: RGBA8 colour or float radiance, + depth in mm
 };
 
-// Host -> device: the real frame and the rendered virtual view.
-class UploadStage final : public FrameStage {
+// Host -> device: the real frame and the rendered virtual layer.
+class UploadStage {
  public:
   explicit UploadStage(ComputeContext& ctx) : ctx_(ctx) {}
-  const char* name() const override { return "upload"; }
-  void process(FrameWork& work) override;
+  static constexpr const char* name = "upload";
+  // Non-blocking writes: `frame` and `layer`'s images must live until the download.
+  DeviceFrame process(const RgbdFrame& frame, const VirtualLayer& layer);
 
  private:
   ComputeContext& ctx_;
+  DeviceImageRGB8 colour_;
+  DeviceDepthImage real_depth_;
+  DeviceImageRGBA8 virtual_colour_;
+  DeviceImage<float, 4> virtual_radiance_;
+  DeviceImageF virtual_depth_;
 };
 
-class OcclusionStage final : public FrameStage {
+class OcclusionStage {
  public:
-  explicit OcclusionStage(std::unique_ptr<occlusion::OcclusionMethod> method)
-      : method_(std::move(method)) {}
-  const char* name() const override { return "occlusion"; }
-  void process(FrameWork& work) override;
+  OcclusionStage(ComputeContext& ctx, std::unique_ptr<occlusion::OcclusionMethod> method)
+      : ctx_(ctx), method_(std::move(method)) {}
+  static constexpr const char* name = "occlusion";
+  // The matte: alpha of the virtual layer per pixel, the colour image's size.
+  const DeviceImageF& process(const DeviceFrame& frame);
   std::string method_name() const { return method_->name(); }
 
  private:
+  ComputeContext& ctx_;
   std::unique_ptr<occlusion::OcclusionMethod> method_;
+  DeviceImageF alpha_;
 };
 
-class CompositeStage final : public FrameStage {
+class CompositeStage {
  public:
   explicit CompositeStage(ComputeContext& ctx) : ctx_(ctx), composite_(ctx), hdr_(ctx) {}
-  const char* name() const override { return "composite"; }
-  void process(FrameWork& work) override;
+  static constexpr const char* name = "composite";
+  const DeviceImageRGB8& process(const DeviceFrame& frame, const DeviceImageF& matte);
 
  private:
   ComputeContext& ctx_;
   Compositor composite_;
   HdrCompositor hdr_;
+  DeviceImageRGB8 out_;
 };
 
 // Device -> host, waiting for the queue: the end of the device work of the frame.
-class DownloadStage final : public FrameStage {
+class DownloadStage {
  public:
-  explicit DownloadStage(ComputeContext& ctx) : ctx_(ctx) {}
-  const char* name() const override { return "download"; }
-  void process(FrameWork& work) override;
+  DownloadStage(ComputeContext& ctx, bool want_matte) : ctx_(ctx), want_matte_(want_matte) {}
+  static constexpr const char* name = "download";
+  HostImages process(const DeviceImageRGB8& composite, const DeviceImageF& matte);
 
  private:
   ComputeContext& ctx_;
+  bool want_matte_;
 };
 
 }  // namespace probeless

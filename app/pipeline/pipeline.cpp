@@ -2,14 +2,13 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+
 #include "app/outputs/banner.hpp"
-#include "app/outputs/file_output.hpp"
-#include "app/outputs/http_server.hpp"
 #include "app/outputs/jpeg_encoder.hpp"
-#include "app/outputs/kms_display.hpp"
-#include "app/outputs/rtsp_server.hpp"
 #include "app/pipeline/frame_processor.hpp"
 #include "app/pipeline/light_capture.hpp"
+#include "app/pipeline/output_factory.hpp"
 #include "app/pipeline/scene_objects.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
 #include "drivers/trigger/gpio_trigger.hpp"
@@ -39,28 +38,7 @@ Pipeline::~Pipeline() {
 void Pipeline::start() {
   started_ns_ = monotonic_now_ns();
   last_rgbd_ns_ = started_ns_;  // "no signal" counts from the start, not from 1970
-  if (options_.serve_http && config_.http_enabled) {
-    HttpServerConfig http;
-    http.address = config_.http_address;
-    http.port = config_.http_port;
-    http_ = std::make_unique<HttpServer>(http, [this] { return status(); });
-  }
-  if (options_.serve_http && config_.rtsp_enabled)
-    rtsp_ = std::make_unique<RtspServer>(config_.rtsp);  // throws: port in use, no encoder
-  if (!config_.output_dir.empty()) {
-    FileOutputConfig files;
-    files.dir = config_.output_dir;
-    files.format = parse_image_file_format(config_.output_format);
-    files.write_matte = config_.output_matte;
-    files_ = std::make_unique<FileOutput>(files);
-  }
-  if (config_.display_enabled) {
-    KmsDisplayConfig display;
-    display.screen.card = config_.display_card;
-    display.screen.connector = config_.display_connector;
-    display.screen.mode = config_.display_mode;
-    display_ = std::make_unique<KmsDisplay>(display);  // a missing screen is retried, not fatal
-  }
+  open_outputs();
   if (rig_.fisheye && config_.bracket_enabled) {
     bracket_ = std::make_unique<BracketSequencer>(config_.bracket);
     if (!config_.trigger_chip.empty()) {
@@ -91,6 +69,28 @@ void Pipeline::start() {
   threads_.emplace_back([this](std::stop_token s) { output_loop(s); });
 }
 
+void Pipeline::open_outputs() {
+  for (const std::string_view name : kOutputNames) {
+    if (!options_.serve_http && (name == "http" || name == "rtsp")) continue;
+    if (auto output = make_output(name, config_, [this] { return status(); })) {
+      std::lock_guard lock(outputs_mutex_);
+      outputs_.push_back(std::move(output));
+    }
+  }
+  std::lock_guard lock(outputs_mutex_);
+  for (const auto& output : options_.outputs)
+    if (output) outputs_.push_back(output);
+  for (const auto& output : outputs_) {
+    const OutputNeeds n = output->needs();
+    if (n.jpeg)
+      needs_.jpeg_quality =
+          needs_.jpeg ? std::max(needs_.jpeg_quality, n.jpeg_quality) : n.jpeg_quality;
+    needs_.jpeg = needs_.jpeg || n.jpeg;
+    needs_.colour = needs_.colour || n.colour;
+    needs_.matte = needs_.matte || n.matte;
+  }
+}
+
 void Pipeline::stop() {
   {
     std::lock_guard lock(state_mutex_);
@@ -102,10 +102,7 @@ void Pipeline::stop() {
   rgbd_slot_.close();
   output_.close();
   threads_.clear();  // jthread joins
-  if (http_) http_->stop();
-  if (rtsp_) rtsp_->stop();
-  if (files_) files_->stop();
-  if (display_) display_->stop();
+  for (const auto& output : outputs_) output->stop();
   state_changed_.notify_all();
 }
 
@@ -125,12 +122,19 @@ std::optional<std::string> Pipeline::fatal_error() const {
   return fatal_;
 }
 
+std::string Pipeline::url_of(std::string_view name) const {
+  std::lock_guard lock(outputs_mutex_);
+  for (const auto& output : outputs_)
+    if (output->name() == name) return output->url();
+  return {};
+}
+
 std::string Pipeline::url() const {
-  return http_ ? http_->url() : std::string();
+  return url_of("http");
 }
 
 std::string Pipeline::rtsp_url() const {
-  return rtsp_ ? rtsp_->url() : std::string();
+  return url_of("rtsp");
 }
 
 void Pipeline::fail(const std::string& what) {
@@ -244,7 +248,7 @@ void Pipeline::process(std::stop_token stop) {
   try {
     LightSource light;
     if (light_) light = [this] { return light_->latest_light(); };
-    FrameProcessor processor(config_, rig_.calibration, options_.keep_matte || files_ != nullptr,
+    FrameProcessor processor(config_, rig_.calibration, options_.keep_matte || needs_.matte,
                              std::move(light));
     {
       std::lock_guard lock(state_mutex_);
@@ -327,29 +331,31 @@ void Pipeline::publish_no_signal(const std::string& state) {
 }
 
 void Pipeline::output_loop(std::stop_token stop) {
-  JpegEncoder encoder(config_.jpeg_quality);
+  // One encode per frame whatever the number of outputs that want it, none when none does.
+  std::optional<JpegEncoder> encoder;
+  if (needs_.jpeg) encoder.emplace(needs_.jpeg_quality);
   LatestFrame<CompositeFrame>::Sequence seen = 0;
-  std::uint64_t file_index = 0;
   while (!stop.stop_requested()) {
     auto item = output_.wait_newer(seen, 100ms, stop);
     if (!item) continue;
     seen = item->sequence;
     const CompositeFrame& f = item->value;
-    // Raw RGB to the H.264 encoder's queue (never blocks). A NO SIGNAL repeat keeps the
-    // last good frame's capture time; the stream shows it now.
-    if (rtsp_) rtsp_->push(f.color, f.no_signal ? monotonic_now_ns() : f.timestamp_ns);
-    const auto t0 = std::chrono::steady_clock::now();
-    auto jpeg = encoder.encode_shared(*f.color);
-    if (!f.no_signal) stats_.record("encode", ms_since(t0));
-    if (http_) http_->publish({std::move(jpeg), f.timestamp_ns});
-    if (display_) display_->submit(f.color);  // NO SIGNAL frames too: the screen shows the fault
-    if (files_ && !f.no_signal) {
-      FileOutputFrame ff;
-      ff.index = file_index++;
-      ff.timestamp_ns = f.timestamp_ns;
-      ff.color = f.color;
-      if (config_.output_matte && f.alpha) ff.matte = f.alpha;
-      files_->submit(std::move(ff));
+    OutputFrame out;
+    out.timestamp_ns = f.timestamp_ns;
+    out.colour = f.color;
+    if (needs_.matte) out.matte = f.alpha;
+    out.no_signal = f.no_signal;
+    // The outputs of raw frames first (the H.264 encoder's queue, the screen, the files):
+    // they need not wait for the JPEG.
+    for (const auto& output : outputs_)
+      if (!output->needs().jpeg) output->offer(out);
+    if (encoder) {
+      const auto t0 = std::chrono::steady_clock::now();
+      out.jpeg = encoder->encode_shared(*f.color);
+      ++jpeg_encodes_;
+      if (!f.no_signal) stats_.record("encode", ms_since(t0));
+      for (const auto& output : outputs_)
+        if (output->needs().jpeg) output->offer(out);
     }
     const auto n = ++encoded_;
     if (n == 1) {
@@ -420,15 +426,10 @@ nlohmann::json Pipeline::status() const {
     j["device"] = device_name_;
     if (fatal_) j["error"] = *fatal_;
   }
-  if (rtsp_) j["rtsp"] = to_json(rtsp_->stats());
-  if (files_) {
-    const auto fs = files_->stats();
-    j["file_output"] = {{"written", fs.written},
-                        {"dropped", fs.dropped},
-                        {"failed", fs.failed},
-                        {"last_error", fs.last_error}};
+  {
+    std::lock_guard lock(outputs_mutex_);
+    for (const auto& output : outputs_) output->add_status(j);
   }
-  if (display_) j["display"] = display_->status();
   return j;
 }
 

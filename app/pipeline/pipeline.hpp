@@ -1,7 +1,7 @@
 #pragma once
 // The service's pipeline (docs/architecture.md "The running service"): one capture thread per
-// source, one processing thread (EGL + OpenCL live there), one output thread that encodes
-// each composite once and hands it to the HTTP server and the file writer.
+// source, one processing thread (EGL + OpenCL live there), one output thread that hands each
+// composite to every output (app/outputs/output.hpp), encoding the JPEG once when one wants it.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -12,8 +12,11 @@
 #include <optional>
 #include <semaphore>
 #include <string>
+#include <string_view>
 #include <thread>
+#include <vector>
 
+#include "app/outputs/output.hpp"
 #include "app/pipeline/service_config.hpp"
 #include "app/service/systemd_notifier.hpp"
 #include "base/latest_frame.hpp"
@@ -27,17 +30,12 @@ namespace probeless {
 class LightCapture;
 class GpioStrobe;
 
-class HttpServer;
-class RtspServer;
-class FileOutput;
-class KmsDisplay;
-
 // What the processing thread publishes per frame.
 struct CompositeFrame {
   std::uint64_t sequence = 0;  // the RGB-D frame's
   TimestampNs timestamp_ns = 0;
   std::shared_ptr<const ImageRGB8> color;
-  std::shared_ptr<const ImageF> alpha;          // with PipelineOptions::keep_matte
+  std::shared_ptr<const ImageF> alpha;  // with PipelineOptions::keep_matte or an output's need
   std::shared_ptr<const ImageF> virtual_depth;  // with keep_matte (mm, 0 = no object)
   std::shared_ptr<const FrameTruth> truth;
   bool no_signal = false;  // a repeat of the last good frame with the NO SIGNAL banner
@@ -48,7 +46,9 @@ struct PipelineOptions {
   // benchmarks and tests that count frames. The service runs lossy (latest frame wins).
   bool lossless = false;
   bool keep_matte = false;
-  bool serve_http = true;               // HTTP and RTSP from config; false: none (benchmarks)
+  bool serve_http = true;  // HTTP and RTSP from config; false: none (benchmarks)
+  // Fed besides the outputs from config (the benchmark's JPEG sink, tests).
+  std::vector<std::shared_ptr<Output>> outputs;
   SystemdNotifier* notifier = nullptr;  // WATCHDOG=1 from the processing loop when set
   // Fault injection for the watchdog test (`run --fault-hang-after N`): after N frames the
   // processing loop stops working, as one stuck in a driver or OpenCL call would: no frames,
@@ -85,6 +85,8 @@ class Pipeline {
   const StageStats& stats() const { return stats_; }
   std::uint64_t frames_processed() const { return processed_.load(); }
   std::uint64_t frames_out() const { return encoded_.load(); }
+  // JPEGs encoded by the output thread: one per frame out while an output wants JPEG, else 0.
+  std::uint64_t jpeg_encodes() const { return jpeg_encodes_.load(); }
 
  private:
   void capture_rgbd(std::stop_token stop);
@@ -92,7 +94,9 @@ class Pipeline {
   void stamp_fisheye_frame(FisheyeFrame& frame);
   void process(std::stop_token stop);
   void process_loop(std::stop_token stop, class FrameProcessor& processor);
+  void open_outputs();  // from config and options, in start()
   void output_loop(std::stop_token stop);
+  std::string url_of(std::string_view output) const;
   void publish_no_signal(const std::string& state);
   void fail(const std::string& what);
   void finish();
@@ -128,12 +132,14 @@ class Pipeline {
   std::optional<CompositeFrame> last_good_;
   std::atomic<bool> no_signal_{false};
   std::atomic<std::uint64_t> processed_{0};
-  std::atomic<std::uint64_t> encoded_{0};
+  std::atomic<std::uint64_t> encoded_{0};  // frames handed to the outputs
+  std::atomic<std::uint64_t> jpeg_encodes_{0};
 
-  std::unique_ptr<HttpServer> http_;
-  std::unique_ptr<RtspServer> rtsp_;
-  std::unique_ptr<FileOutput> files_;
-  std::unique_ptr<KmsDisplay> display_;  // [display] enabled
+  // From config, then PipelineOptions::outputs; built in start() while the HTTP server may
+  // already ask for status(), hence the mutex (the output thread starts after them).
+  mutable std::mutex outputs_mutex_;
+  std::vector<std::shared_ptr<Output>> outputs_;
+  OutputNeeds needs_;  // what any of them needs
 
   mutable std::mutex state_mutex_;
   std::condition_variable state_changed_;

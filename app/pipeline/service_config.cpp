@@ -97,19 +97,19 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   }
   if (auto* t = r.optional_table(root, "http")) {
     r.only(*t, "[http]", {"enabled", "address", "port", "jpeg_quality"});
-    r.get(*t, "enabled", c.http_enabled);
-    r.get(*t, "address", c.http_address);
-    r.get(*t, "port", c.http_port);
-    r.get(*t, "jpeg_quality", c.jpeg_quality);
-    if (c.http_port < 0 || c.http_port > 65535) r.fail(t->get("port"), "port out of range");
-    if (c.jpeg_quality < 1 || c.jpeg_quality > 100)
+    r.get(*t, "enabled", c.http.enabled);
+    r.get(*t, "address", c.http.address);
+    r.get(*t, "port", c.http.port);
+    r.get(*t, "jpeg_quality", c.http.jpeg_quality);
+    if (c.http.port < 0 || c.http.port > 65535) r.fail(t->get("port"), "port out of range");
+    if (c.http.jpeg_quality < 1 || c.http.jpeg_quality > 100)
       r.fail(t->get("jpeg_quality"), "jpeg_quality must be 1..100");
   }
   if (auto* t = r.optional_table(root, "rtsp")) {
     r.only(*t, "[rtsp]",
            {"enabled", "address", "port", "path", "bitrate_kbps", "keyframe_interval", "framerate",
             "encoder"});
-    r.get(*t, "enabled", c.rtsp_enabled);
+    r.get(*t, "enabled", c.rtsp.enabled);
     r.get(*t, "address", c.rtsp.address);
     r.get(*t, "port", c.rtsp.port);
     r.get(*t, "path", c.rtsp.path);
@@ -135,11 +135,15 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   }
   if (auto* t = r.optional_table(root, "output")) {
     r.only(*t, "[output]", {"dir", "format", "matte"});
-    r.get(*t, "dir", c.output_dir);
-    r.get(*t, "format", c.output_format);
-    r.get(*t, "matte", c.output_matte);
-    if (c.output_format != "jpeg" && c.output_format != "png")
+    std::string dir = c.files.dir.string();
+    std::string format = c.files.format == ImageFileFormat::Png ? "png" : "jpeg";
+    r.get(*t, "dir", dir);
+    r.get(*t, "format", format);
+    r.get(*t, "matte", c.files.write_matte);
+    if (format != "jpeg" && format != "png")
       r.fail(t->get("format"), "format must be \"jpeg\" or \"png\"");
+    c.files.dir = dir;
+    c.files.format = parse_image_file_format(format);
   }
   if (auto* t = r.optional_table(root, "opencl")) {
     r.only(*t, "[opencl]", {"platform", "device"});
@@ -220,13 +224,13 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   }
   if (auto* t = r.optional_table(root, "display")) {
     r.only(*t, "[display]", {"enabled", "card", "connector", "mode"});
-    r.get(*t, "enabled", c.display_enabled);
-    r.get(*t, "card", c.display_card);
-    r.get(*t, "connector", c.display_connector);
-    r.get(*t, "mode", c.display_mode);
-    if (!c.display_mode.empty()) {
+    r.get(*t, "enabled", c.display.enabled);
+    r.get(*t, "card", c.display.screen.card);
+    r.get(*t, "connector", c.display.screen.connector);
+    r.get(*t, "mode", c.display.screen.mode);
+    if (!c.display.screen.mode.empty()) {
       try {
-        display::parse_mode_request(c.display_mode);
+        display::parse_mode_request(c.display.screen.mode);
       } catch (const display::DisplayError& e) {
         r.fail(t->get("mode"), e.what());
       }

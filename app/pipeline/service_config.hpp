@@ -9,6 +9,9 @@
 #include <string_view>
 #include <vector>
 
+#include "app/outputs/file_output.hpp"
+#include "app/outputs/http_server.hpp"
+#include "app/outputs/kms_display.hpp"
 #include "app/outputs/rtsp_server.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 
@@ -58,19 +61,13 @@ struct ServiceConfig {
 
   std::string occlusion_method = "direct1";  // see docs/occlusion.md for the list
 
-  bool http_enabled = true;
-  std::string http_address = "127.0.0.1";  // loopback by default: an appliance opens up on purpose
-  int http_port = 8080;
-  int jpeg_quality = 80;
-
-  // [rtsp]: H.264 over RTSP beside the MJPEG (docs/outputs.md "RTSP"). Off by default: it
-  // needs GStreamer's encoder plugins, which a minimal install may not have.
-  bool rtsp_enabled = false;
+  // The outputs (app/outputs/output.hpp), each section its component's own config.
+  HttpServerConfig http;  // [http]: the MJPEG stream, the viewer and /status
+  // [rtsp]: H.264 over RTSP beside the MJPEG (docs/outputs.md "RTSP"), off by default.
   RtspServerConfig rtsp;
-
-  std::string output_dir;              // empty: no file output
-  std::string output_format = "jpeg";  // "jpeg" or "png"
-  bool output_matte = false;
+  FileOutputConfig files;  // [output]: the image sequence; no dir, no files
+  // [display]: the tethered screen, EGL on GBM + KMS (docs/display.md), off by default.
+  KmsDisplayConfig display;
 
   std::string cl_platform;  // substring match; empty: PROBELESS_CL_PLATFORM or the default
   std::string cl_device;
@@ -105,13 +102,6 @@ struct ServiceConfig {
   std::string light_room = "auto";  // off | auto (sim's box under the sim) | sim | box
   Eigen::Vector3d light_room_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d light_room_max = Eigen::Vector3d::Zero();
-
-  // [display]: the tethered screen, EGL on GBM + KMS (docs/display.md). Off by default: a
-  // service that grabs the console's screen must be asked to.
-  bool display_enabled = false;
-  std::string display_card;       // "card0" or a path; empty: the first card with a connector
-  std::string display_connector;  // "HDMI-A-1", "Virtual-1"; empty: the first connected
-  std::string display_mode;       // "1920x1080" or "1920x1080@60"; empty: the preferred mode
 
   std::int64_t max_frames = 0;  // 0 = run until stopped
   // A source that has delivered nothing for this long is "no signal": outputs show the last

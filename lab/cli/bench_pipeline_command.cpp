@@ -9,10 +9,11 @@
 #include <string_view>
 #include <thread>
 
-#include "lab/cli/lab_commands.hpp"
+#include "app/outputs/output.hpp"
 #include "app/pipeline/pipeline.hpp"
 #include "base/stage_stats.hpp"
 #include "drivers/rig_factory.hpp"
+#include "lab/cli/lab_commands.hpp"
 
 namespace probeless::cli {
 namespace {
@@ -29,6 +30,20 @@ struct BenchArgs {
   // The sim's frames rendered before timing (SimOptions::prerender): the pipeline's own cost,
   // as with a camera, whose frames arrive by DMA. Off: the sim renders while it is timed.
   bool prerender = false;
+};
+
+// The MJPEG stream's share of the work without a port to serve it on: the service streams by
+// default, so the benchmark encodes each frame once as the service would, and drops it.
+class JpegSink final : public Output {
+ public:
+  explicit JpegSink(int quality) : quality_(quality) {}
+  std::string_view name() const override { return "jpeg_sink"; }
+  OutputNeeds needs() const override { return {.jpeg = true, .jpeg_quality = quality_}; }
+  void offer(const OutputFrame&) override {}
+  void stop() override {}
+
+ private:
+  int quality_;
 };
 
 void run_bench(const BenchArgs& args) {
@@ -49,6 +64,7 @@ void run_bench(const BenchArgs& args) {
   PipelineOptions options;
   options.lossless = true;
   options.serve_http = false;
+  options.outputs.push_back(std::make_shared<JpegSink>(config.http.jpeg_quality));
   Pipeline pipeline(config, open_rig(config.source), options);
   pipeline.start();
   if (!pipeline.wait_first_frame(std::chrono::minutes(2)))

@@ -10,18 +10,10 @@
 #include <string>
 
 #include "app/outputs/display/kms_modeset.hpp"
+#include "app/outputs/display/kms_screen_config.hpp"
 #include "app/outputs/display/scanout_surface.hpp"
 
 namespace probeless::display {
-
-struct KmsScreenConfig {
-  std::string card;       // "card0" or a path; empty: the first card with a usable connector
-  std::string connector;  // "HDMI-A-1"; empty: the first connected
-  std::string mode;       // "1920x1080@60"; empty: the connector's preferred mode
-  std::filesystem::path dri_dir = "/dev/dri";
-  // A flip normally completes within one refresh (17 ms at 60 Hz); this bounds a stuck one.
-  std::chrono::milliseconds flip_timeout{500};
-};
 
 struct PresentResult {
   bool mode_set = false;          // the first frame: drmModeSetCrtc, no flip event

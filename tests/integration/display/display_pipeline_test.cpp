@@ -14,8 +14,8 @@ TEST(DisplayPipeline, AMissingScreenIsInStatusAndTheServiceRunsOn) {
   ServiceConfig config;
   config.source = "sim:realtime=0,trajectory=static";
   config.max_frames = 10;
-  config.display_enabled = true;
-  config.display_card = "/nonexistent/card0";  // the same answer on a machine with a GPU
+  config.display.enabled = true;
+  config.display.screen.card = "/nonexistent/card0";  // the same answer on a machine with a GPU
   PipelineOptions options;
   options.serve_http = false;
   Pipeline pipeline(config, open_rig(config.source), options);
@@ -32,7 +32,7 @@ TEST(DisplayPipeline, AMissingScreenIsInStatusAndTheServiceRunsOn) {
   EXPECT_EQ(d["flips"], 0);
   EXPECT_GT(d["frames_in"].get<int>(), 0) << "the output loop does not feed the display";
   // Without [display] the status has no display entry.
-  config.display_enabled = false;
+  config.display.enabled = false;
   Pipeline plain(config, open_rig(config.source), options);
   EXPECT_FALSE(plain.status().contains("display"));
 }

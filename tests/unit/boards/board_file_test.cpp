@@ -72,8 +72,8 @@ TEST_F(BoardDir, AConfigNamesABoardAndOverridesItKeyByKey) {
         "board = \"rpi5\"\n[http]\nport = 9000\n[bracket]\nmains_hz = 60\n");
   const ServiceConfig c = load_service_config((dir / "probeless.toml").string());
   EXPECT_EQ(c.about_name, "rpi5");
-  EXPECT_EQ(c.http_port, 9000);              // the config's
-  EXPECT_EQ(c.http_address, "0.0.0.0");      // the board's, same table
+  EXPECT_EQ(c.http.port, 9000);              // the config's
+  EXPECT_EQ(c.http.address, "0.0.0.0");      // the board's, same table
   EXPECT_EQ(c.bracket.mains_hz, 60);         // the config's
   EXPECT_EQ(c.trigger_chip, "pinctrl-rp1");  // the board's, same table
   EXPECT_EQ(c.trigger_line, 17);
@@ -87,7 +87,7 @@ TEST_F(BoardDir, TheCommandLineBoardWinsOverTheFilesAndWorksAlone) {
   const ServiceConfig c = load_service_config((dir / "probeless.toml").string(), "x86-pocl");
   EXPECT_EQ(c.about_name, "x86-pocl");
   EXPECT_EQ(c.trigger_chip, "");
-  EXPECT_EQ(c.http_port, 9000);
+  EXPECT_EQ(c.http.port, 9000);
   EXPECT_EQ(load_service_config("", "rk3588").cl_platform, "ARM Platform");
   // Neither a file nor a board: the built-in defaults.
   EXPECT_EQ(load_service_config("").source, "sim");
@@ -99,7 +99,7 @@ TEST(BoardFiles, PathsAreRelativeToTheFileThatNamesThem) {
         "[source]\nrig = \"sim\"\n[[object]]\nmodel = \"duck.gltf\"\n");
   write(dir / "conf/probeless.toml", "board = \"../boards/mine\"\n[http]\nport = 1234\n");
   const ServiceConfig c = load_service_config((dir / "conf/probeless.toml").string());
-  EXPECT_EQ(c.http_port, 1234);
+  EXPECT_EQ(c.http.port, 1234);
   ASSERT_EQ(c.objects.size(), 1u);
   EXPECT_EQ(fs::path(c.objects[0].model), dir / "boards/mine/duck.gltf");
   // An [[object]] list in the config replaces the board's whole list.

@@ -119,14 +119,14 @@ TEST(KmsDisplayOutput, NoScreenIsRetriedWithTheReasonInStatusWithoutBlockingSubm
 
 TEST(DisplayConfig, TheDisplaySectionIsParsedAndItsModeChecked) {
   const ServiceConfig off = parse_service_config("");
-  EXPECT_FALSE(off.display_enabled);
+  EXPECT_FALSE(off.display.enabled);
   const ServiceConfig c = parse_service_config(
       "[display]\nenabled = true\ncard = \"card1\"\nconnector = \"HDMI-A-1\"\n"
       "mode = \"1920x1080@60\"\n");
-  EXPECT_TRUE(c.display_enabled);
-  EXPECT_EQ(c.display_card, "card1");
-  EXPECT_EQ(c.display_connector, "HDMI-A-1");
-  EXPECT_EQ(c.display_mode, "1920x1080@60");
+  EXPECT_TRUE(c.display.enabled);
+  EXPECT_EQ(c.display.screen.card, "card1");
+  EXPECT_EQ(c.display.screen.connector, "HDMI-A-1");
+  EXPECT_EQ(c.display.screen.mode, "1920x1080@60");
   try {
     parse_service_config("[display]\nenabled = true\nmode = \"1080p\"\n", "svc.toml");
     FAIL() << "a bad mode was accepted";

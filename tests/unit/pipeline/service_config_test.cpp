@@ -20,8 +20,8 @@ TEST(ServiceConfig, EmptyTextGivesTheBuiltInDefault) {
   EXPECT_EQ(c.objects[1].shape, "pawn");
   EXPECT_EQ(c.objects[1].material, "prt");
   EXPECT_TRUE(c.ground.enabled);
-  EXPECT_EQ(c.http_address, "127.0.0.1");
-  EXPECT_EQ(c.http_port, 8080);
+  EXPECT_EQ(c.http.address, "127.0.0.1");
+  EXPECT_EQ(c.http.port, 8080);
 }
 
 TEST(ServiceConfig, ReadsEverySection) {
@@ -85,9 +85,9 @@ room_max = [2.5, 3.0, 2.4]
   EXPECT_DOUBLE_EQ(c.ground.size_m, 1.5);
   EXPECT_FLOAT_EQ(c.ground.albedo.x(), 0.5f);
   EXPECT_EQ(c.occlusion_method, "direct2");
-  EXPECT_EQ(c.http_port, 9000);
-  EXPECT_EQ(c.output_format, "png");
-  EXPECT_TRUE(c.output_matte);
+  EXPECT_EQ(c.http.port, 9000);
+  EXPECT_EQ(c.files.format, ImageFileFormat::Png);
+  EXPECT_TRUE(c.files.write_matte);
   EXPECT_EQ(c.max_frames, 42);
   EXPECT_TRUE(c.bracket_enabled);
   EXPECT_EQ(c.bracket.mains_hz, 60);
@@ -207,7 +207,7 @@ TEST(RigScene, TheSimsAnchorAndRoomPlaceTheDemoScene) {
 // [rtsp] is additive: off by default, every key parsed, bad values named with their line.
 TEST(ServiceConfig, RtspSection) {
   const ServiceConfig d = parse_service_config("");
-  EXPECT_FALSE(d.rtsp_enabled);
+  EXPECT_FALSE(d.rtsp.enabled);
   EXPECT_EQ(d.rtsp.port, 8554);
   EXPECT_EQ(d.rtsp.path, "/probeless");
   EXPECT_EQ(d.rtsp.encoder, "auto");
@@ -221,7 +221,7 @@ keyframe_interval = 15
 framerate = 25
 encoder = "x264enc"
 )");
-  EXPECT_TRUE(c.rtsp_enabled);
+  EXPECT_TRUE(c.rtsp.enabled);
   EXPECT_EQ(c.rtsp.address, "0.0.0.0");
   EXPECT_EQ(c.rtsp.port, 9554);
   EXPECT_EQ(c.rtsp.path, "/cam/main");
