@@ -25,7 +25,7 @@ struct FrameTruth {
 struct RgbdFrame {
   std::uint64_t sequence = 0;
   TimestampNs timestamp_ns = 0;
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage depth;  // mm, 0 = unknown
   std::shared_ptr<const FrameTruth> truth;
 };

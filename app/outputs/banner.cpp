@@ -83,16 +83,16 @@ constexpr std::array<std::array<std::uint8_t, kGlyphHeight>, kLastGlyph - kFirst
 constexpr int kAdvance = kGlyphWidth + 1;  // one blank column between characters
 constexpr int kLineGap = 3;                // blank rows between banner lines, times scale
 
-void fill_rect(ImageRGB8& image, Rect r, Rgb8 color) {
+void fill_rect(ImageRGB8& image, Rect r, Rgb8 colour) {
   const int x0 = std::max(r.x, 0), y0 = std::max(r.y, 0);
   const int x1 = std::min(r.x + r.width, image.width());
   const int y1 = std::min(r.y + r.height, image.height());
   for (int y = y0; y < y1; ++y) {
     std::uint8_t* p = image.row(y) + static_cast<std::size_t>(x0) * 3;
     for (int x = x0; x < x1; ++x, p += 3) {
-      p[0] = color.r;
-      p[1] = color.g;
-      p[2] = color.b;
+      p[0] = colour.r;
+      p[1] = colour.g;
+      p[2] = colour.b;
     }
   }
 }
@@ -120,7 +120,7 @@ int text_height(int scale) {
   return kGlyphHeight * scale;
 }
 
-void draw_text(ImageRGB8& image, int x, int y, std::string_view text, int scale, Rgb8 color) {
+void draw_text(ImageRGB8& image, int x, int y, std::string_view text, int scale, Rgb8 colour) {
   scale = std::max(scale, 1);
   for (std::size_t i = 0; i < text.size(); ++i) {
     const std::uint8_t* rows = glyph_rows(text[i]);
@@ -128,7 +128,7 @@ void draw_text(ImageRGB8& image, int x, int y, std::string_view text, int scale,
     for (int gy = 0; gy < kGlyphHeight; ++gy) {
       for (int gx = 0; gx < kGlyphWidth; ++gx) {
         if ((rows[gy] >> (kGlyphWidth - 1 - gx) & 1) == 0) continue;
-        fill_rect(image, {cell_x + gx * scale, y + gy * scale, scale, scale}, color);
+        fill_rect(image, {cell_x + gx * scale, y + gy * scale, scale, scale}, colour);
       }
     }
   }

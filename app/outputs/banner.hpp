@@ -27,7 +27,7 @@ const std::uint8_t* glyph_rows(char c);
 int text_width(std::string_view text, int scale);
 int text_height(int scale);
 // Draws one line with its top-left corner at (x, y); clipped to the image.
-void draw_text(ImageRGB8& image, int x, int y, std::string_view text, int scale, Rgb8 color);
+void draw_text(ImageRGB8& image, int x, int y, std::string_view text, int scale, Rgb8 colour);
 
 struct Rect {
   int x = 0, y = 0, width = 0, height = 0;

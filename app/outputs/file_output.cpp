@@ -75,7 +75,7 @@ FileOutput::~FileOutput() {
 }
 
 void FileOutput::submit(FileOutputFrame frame) {
-  if (!frame.color) return;
+  if (!frame.colour) return;
   {
     std::lock_guard lock(mutex_);
     if (stopping_) return;
@@ -103,7 +103,7 @@ void FileOutput::offer(const OutputFrame& frame) {
   FileOutputFrame f;
   f.index = next_index_++;
   f.timestamp_ns = frame.timestamp_ns;
-  f.color = frame.colour;
+  f.colour = frame.colour;
   if (config_.write_matte && frame.matte) f.matte = frame.matte;
   submit(std::move(f));
 }
@@ -136,9 +136,9 @@ void FileOutput::run() {
       const std::string name =
           numbered("frame", frame.index, config_.format == ImageFileFormat::Jpeg ? "jpg" : "png");
       if (config_.format == ImageFileFormat::Jpeg) {
-        write_file_atomically(config_.dir / name, encoder_.encode(*frame.color));
+        write_file_atomically(config_.dir / name, encoder_.encode(*frame.colour));
       } else {
-        write_png(config_.dir / name, *frame.color);
+        write_png(config_.dir / name, *frame.colour);
       }
       if (config_.write_matte) {
         const auto matte_path = config_.dir / numbered("matte", frame.index, "png");

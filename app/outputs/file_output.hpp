@@ -48,7 +48,7 @@ struct FileOutputConfig {
 struct FileOutputFrame {
   std::uint64_t index = 0;  // names the files; gaps show where frames were dropped
   TimestampNs timestamp_ns = 0;
-  std::shared_ptr<const ImageRGB8> color;
+  std::shared_ptr<const ImageRGB8> colour;
   // The matte, written as 8-bit PNG (lossless: a matte is data, JPEG would ring at its
   // edges). A float matte is alpha in [0, 1], stored as round(255 * alpha).
   std::variant<std::monostate, std::shared_ptr<const ImageGray8>, std::shared_ptr<const ImageF>>

@@ -61,7 +61,7 @@ CompositeFrame FrameProcessor::process(const RgbdFrame& frame, StageStats& stats
   CompositeFrame out;
   out.sequence = frame.sequence;
   out.timestamp_ns = frame.timestamp_ns;
-  out.color = std::move(host.composite);
+  out.colour = std::move(host.composite);
   out.alpha = std::move(host.matte);
   if (keep_matte_) out.virtual_depth = std::make_shared<const ImageF>(*layer.depth_mm);
   out.truth = frame.truth;

@@ -23,7 +23,7 @@ VirtualLayer RenderStage::process(const Pose& T_world_camera) {
   if (!(snap && snap->colour_exposure_valid)) {
     view_.output = render::ColourOutput::Display8;
     renderer_.render({intrinsics_, T_world_camera}, placeholders_, view_);
-    return {LdrColour{&view_.color}, &view_.depth_mm};
+    return {LdrColour{&view_.colour}, &view_.depth_mm};
   }
   if (snap->version != light_version_) {
     // A new keyframe copy: a new Environment, uploaded and prefiltered once for all objects.
@@ -42,7 +42,7 @@ VirtualLayer RenderStage::process(const Pose& T_world_camera) {
 
 DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& layer) {
   auto& q = ctx_.queue();
-  colour_.upload(q, frame.color, false);
+  colour_.upload(q, frame.colour, false);
   real_depth_.upload(q, frame.depth, false);
   DeviceFrame out{&colour_, &real_depth_, {}, &virtual_depth_};
   if (const auto* hdr = std::get_if<HdrRadiance>(&layer.colour)) {

@@ -317,14 +317,14 @@ void Pipeline::publish_no_signal(const std::string& state) {
   CompositeFrame f;
   if (last_good_) {
     f = *last_good_;
-    auto color = std::make_shared<ImageRGB8>(*last_good_->color);
-    draw_no_signal(*color, rig_.rgbd->name(), state);
-    f.color = std::move(color);
+    auto colour = std::make_shared<ImageRGB8>(*last_good_->colour);
+    draw_no_signal(*colour, rig_.rgbd->name(), state);
+    f.colour = std::move(colour);
   } else {  // nothing good yet: a black frame of the camera's size says it all the same
-    auto color =
+    auto colour =
         std::make_shared<ImageRGB8>(rig_.calibration.rgb.width(), rig_.calibration.rgb.height());
-    draw_no_signal(*color, rig_.rgbd->name(), state);
-    f.color = std::move(color);
+    draw_no_signal(*colour, rig_.rgbd->name(), state);
+    f.colour = std::move(colour);
   }
   f.no_signal = true;
   output_.publish(std::move(f));
@@ -342,7 +342,7 @@ void Pipeline::output_loop(std::stop_token stop) {
     const CompositeFrame& f = item->value;
     OutputFrame out;
     out.timestamp_ns = f.timestamp_ns;
-    out.colour = f.color;
+    out.colour = f.colour;
     if (needs_.matte) out.matte = f.alpha;
     out.no_signal = f.no_signal;
     // The outputs of raw frames first (the H.264 encoder's queue, the screen, the files):
@@ -351,7 +351,7 @@ void Pipeline::output_loop(std::stop_token stop) {
       if (!output->needs().jpeg) output->offer(out);
     if (encoder) {
       const auto t0 = std::chrono::steady_clock::now();
-      out.jpeg = encoder->encode_shared(*f.color);
+      out.jpeg = encoder->encode_shared(*f.colour);
       ++jpeg_encodes_;
       if (!f.no_signal) stats_.record("encode", ms_since(t0));
       for (const auto& output : outputs_)

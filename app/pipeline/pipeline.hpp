@@ -34,7 +34,7 @@ class GpioStrobe;
 struct CompositeFrame {
   std::uint64_t sequence = 0;  // the RGB-D frame's
   TimestampNs timestamp_ns = 0;
-  std::shared_ptr<const ImageRGB8> color;
+  std::shared_ptr<const ImageRGB8> colour;
   std::shared_ptr<const ImageF> alpha;  // with PipelineOptions::keep_matte or an output's need
   std::shared_ptr<const ImageF> virtual_depth;  // with keep_matte (mm, 0 = no object)
   std::shared_ptr<const FrameTruth> truth;

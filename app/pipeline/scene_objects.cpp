@@ -73,7 +73,7 @@ std::vector<render::VirtualObject> make_scene_objects(const std::vector<ObjectCo
     render::VirtualObject o;
     o.scale = c.scale;
     o.material.shading = shading_of(c.material);
-    o.material.base_colour = {c.color.x(), c.color.y(), c.color.z(), 1.f};
+    o.material.base_colour = {c.colour.x(), c.colour.y(), c.colour.z(), 1.f};
     o.material.roughness = static_cast<float>(c.roughness);
     o.material.ior = static_cast<float>(c.ior);
     o.T_world_object.rotation =

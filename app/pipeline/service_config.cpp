@@ -31,7 +31,7 @@ ObjectConfig parse_object(const TomlReader& r, const toml::table& t) {
   }
   r.get(t, "yaw_deg", o.yaw_deg);
   r.get(t, "scale", o.scale);
-  r.get_vector<3>(t, "color", o.color);
+  r.get_vector<3>(t, "color", o.colour);
   static const std::set<std::string> shapes{"pawn", "sphere", "box"};
   if (o.model.empty() && !shapes.contains(o.shape))
     r.fail(t.get("shape"), "shape '" + o.shape + "' is not one of pawn, sphere, box");
@@ -57,12 +57,12 @@ std::vector<ObjectConfig> default_objects() {
   ObjectConfig sphere;
   sphere.shape = "sphere";
   sphere.material = "mirror";
-  sphere.color = {0.95f, 0.95f, 0.95f};  // polished steel reflects ~60-95 %; chrome-like
+  sphere.colour = {0.95f, 0.95f, 0.95f};  // polished steel reflects ~60-95 %; chrome-like
   sphere.anchor_offset = Eigen::Vector3d(-0.15, 0.0, 0.0);
   ObjectConfig pawn;
   pawn.shape = "pawn";
   pawn.material = "prt";
-  pawn.color = {0.75f, 0.18f, 0.12f};
+  pawn.colour = {0.75f, 0.18f, 0.12f};
   pawn.anchor_offset = Eigen::Vector3d(0.15, 0.0, 0.0);
   return {sphere, pawn};
 }

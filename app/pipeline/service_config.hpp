@@ -27,7 +27,7 @@ struct ObjectConfig {
   Eigen::Vector3d anchor_offset = Eigen::Vector3d::Zero();
   double yaw_deg = 0;  // rotation about world z
   double scale = 1.0;
-  Eigen::Vector3f color{0.75f, 0.18f, 0.12f};  // linear base colour
+  Eigen::Vector3f colour{0.75f, 0.18f, 0.12f};  // linear base colour
   // How it is shaded (docs/rendering.md "Materials"): lambert (fixed placeholder light),
   // mirror, metal (rough, colour = F0), glass (refraction), diffuse (SH irradiance, no
   // shadows), prt (diffuse with self-shadowing and a shadow on the ground plane).

@@ -268,9 +268,9 @@ void Renderer::read_back(RenderTarget& out) {
       out.radiance = ImageRGBAF(width_, height_);
     glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, out.radiance.data());
   } else {
-    if (out.color.width() != width_ || out.color.height() != height_)
-      out.color = ImageRGBA8(width_, height_);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.color.data());
+    if (out.colour.width() != width_ || out.colour.height() != height_)
+      out.colour = ImageRGBA8(width_, height_);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.colour.data());
   }
   glReadBuffer(GL_COLOR_ATTACHMENT1);
   if (read_depth_as_red_) {

@@ -131,10 +131,10 @@ bool set_transforms(png_structp png, png_infop info, ReadTarget target, PngLayou
     if ((color_type & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS)) {
       png_set_strip_alpha(png);
     }
-    const bool is_color = (color_type & PNG_COLOR_MASK_COLOR) != 0;
-    if (target == ReadTarget::RGB8 && !is_color) png_set_gray_to_rgb(png);
+    const bool is_colour = (color_type & PNG_COLOR_MASK_COLOR) != 0;
+    if (target == ReadTarget::RGB8 && !is_colour) png_set_gray_to_rgb(png);
     // Rec. 709 luma weights (libpng's defaults without a cHRM chunk).
-    if (target == ReadTarget::Gray8 && is_color) {
+    if (target == ReadTarget::Gray8 && is_colour) {
       png_set_rgb_to_gray_fixed(png, PNG_ERROR_ACTION_NONE, -1, -1);
     }
   } else if (kLittleEndianHost) {
@@ -274,7 +274,7 @@ bool write_image(png_structp png, png_infop info, std::FILE* file, const WriteSp
 }
 
 template <typename ImageT>
-constexpr int color_type_for() {
+constexpr int colour_type_for() {
   switch (ImageT::channels) {
     case 1:
       return PNG_COLOR_TYPE_GRAY;
@@ -289,9 +289,9 @@ constexpr int color_type_for() {
 
 template <typename ImageT>
 WriteSpec write_spec(const ImageT& image) {
-  static_assert(color_type_for<ImageT>() >= 0, "no PNG colour type for this channel count");
+  static_assert(colour_type_for<ImageT>() >= 0, "no PNG colour type for this channel count");
   return {static_cast<png_uint_32>(image.width()), static_cast<png_uint_32>(image.height()),
-          static_cast<int>(8 * sizeof(typename ImageT::value_type)), color_type_for<ImageT>()};
+          static_cast<int>(8 * sizeof(typename ImageT::value_type)), colour_type_for<ImageT>()};
 }
 
 template <typename ImageT>

@@ -180,7 +180,7 @@ bool Openni2RgbdSource::take_pair(RgbdFrame& frame) {
                      static_cast<std::int64_t>(depths_.front().device_us);
     if (std::abs(gap) <= pair_us) {
       frame.timestamp_ns = to_monotonic(colours_.front().device_us);
-      frame.color = std::move(colours_.front().image);
+      frame.colour = std::move(colours_.front().image);
       frame.depth = std::move(depths_.front().image);
       frame.truth = nullptr;
       frame.sequence = sequence_++;

@@ -228,7 +228,7 @@ std::shared_ptr<const Recording> Recording::open(const fs::path& dir) {
     e.line = where.line;
     e.sequence = parse_uint64(f[0], where, "sequence");
     e.timestamp_ns = parse_int64(f[1], where, "timestamp_ns");
-    e.color = checked_file(dir, f[2], where, "color");
+    e.colour = checked_file(dir, f[2], where, "color");
     e.depth = checked_file(dir, f[3], where, "depth");
     bool wants_pose = false;
     e.truth = parse_truth(dir, f, 4, where, &wants_pose);
@@ -318,7 +318,7 @@ RgbdFrame FrameLoader::load(const RgbdEntry& entry) {
   RgbdFrame frame;
   frame.sequence = entry.sequence;
   frame.timestamp_ns = entry.timestamp_ns;
-  frame.color = read_png_rgb8(dir / entry.color);
+  frame.colour = read_png_rgb8(dir / entry.colour);
   frame.depth = read_png_depth16(dir / entry.depth);
   frame.truth = load_truth(entry.truth);
   return frame;

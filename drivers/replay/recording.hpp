@@ -55,7 +55,7 @@ struct TruthEntry {
 struct RgbdEntry {
   std::uint64_t sequence = 0;
   TimestampNs timestamp_ns = 0;
-  std::string color;
+  std::string colour;
   std::string depth;
   TruthEntry truth;
   int line = 0;  // in rgbd.csv

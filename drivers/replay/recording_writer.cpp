@@ -176,7 +176,7 @@ void RecordingWriter::append(const RgbdFrame& frame) {
   if (finished_) throw std::logic_error("RecordingWriter: append after finish");
   const std::int64_t i = rgbd_.count.load();
   const std::string name = frame_name(i, "png");
-  write_png(dir_ / "rgb" / name, frame.color);
+  write_png(dir_ / "rgb" / name, frame.colour);
   write_png(dir_ / "depth" / name, frame.depth);
   const std::string truth = write_truth(rgbd_, files::kRgbdTrajectory, "truth/depth",
                                         "truth/mask", name, frame.truth, frame.timestamp_ns);

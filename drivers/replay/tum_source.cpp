@@ -171,14 +171,14 @@ ReadResult TumRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
     RgbdFrame out;
     out.sequence = next.index + next.sequence_offset;
     out.timestamp_ns = f.timestamp_ns + next.timestamp_offset;
-    out.color = read_png_rgb8(sequence_->dir / f.color);
+    out.colour = read_png_rgb8(sequence_->dir / f.colour);
     out.depth = tum_depth_to_mm(read_png_depth16(sequence_->dir / f.depth));
-    if (out.depth.width() != out.color.width() || out.depth.height() != out.color.height()) {
+    if (out.depth.width() != out.colour.width() || out.depth.height() != out.colour.height()) {
       throw ImageFileError(sequence_->dir / f.depth,
                            "depth is " + std::to_string(out.depth.width()) + "x" +
                                std::to_string(out.depth.height()) + " but colour is " +
-                               std::to_string(out.color.width()) + "x" +
-                               std::to_string(out.color.height()));
+                               std::to_string(out.colour.width()) + "x" +
+                               std::to_string(out.colour.height()));
     }
     if (f.rig_pose) {
       auto truth = std::make_shared<FrameTruth>();

@@ -42,7 +42,7 @@ struct TumSequence {
   std::filesystem::path dir;
   struct Frame {
     TimestampNs timestamp_ns;  // the colour image's
-    std::string color, depth;
+    std::string colour, depth;
     std::optional<Pose> rig_pose;  // ground truth interpolated at the colour timestamp
   };
   std::vector<Frame> frames;

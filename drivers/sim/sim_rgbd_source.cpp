@@ -173,7 +173,7 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
 
   frame.sequence = static_cast<std::uint64_t>(index);
   frame.timestamp_ns = pacer_.timestamp(index);
-  if (frame.color.width() != w || frame.color.height() != h) frame.color = ImageRGB8(w, h);
+  if (frame.colour.width() != w || frame.colour.height() != h) frame.colour = ImageRGB8(w, h);
   const std::uint64_t frame_seed = hash_combine(world_->seed(), static_cast<std::uint64_t>(index));
   const auto key = static_cast<std::uint32_t>(frame_seed);
   const auto& lut = gamma_table();
@@ -202,7 +202,7 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
       v += (kShotNoise * v.max(0.0f) + kReadNoise * kReadNoise).sqrt() * noise;
       v = v.max(0.0f).min(1.0f) * 65535.0f + 0.5f;
       for (int i = 0; i < n; ++i) level[i] = static_cast<std::int32_t>(v[i]);
-      std::uint8_t* out = frame.color.row(y);
+      std::uint8_t* out = frame.colour.row(y);
       for (int i = 0; i < n; ++i) out[i] = lut[level[i]];
     }
   });

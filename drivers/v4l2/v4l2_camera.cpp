@@ -128,7 +128,7 @@ void V4l2Camera::negotiate_format(const V4l2Options& options) {
     const auto& pix = fmt.fmt.pix;
     if (pix.pixelformat == fourcc && static_cast<int>(pix.width) == options.width &&
         static_cast<int>(pix.height) == options.height && pix.field == V4L2_FIELD_NONE) {
-      apply_colorimetry(pix, pixel);
+      apply_colourimetry(pix, pixel);
       info_.pixel = pixel;
       info_.fourcc = fourcc_text(fourcc);
       info_.width = options.width;

@@ -72,7 +72,7 @@ int preference(const PixelFormat& format) {
   return 9;
 }
 
-void apply_colorimetry(const v4l2_pix_format& pix, PixelFormat& f) {
+void apply_colourimetry(const v4l2_pix_format& pix, PixelFormat& f) {
   f.bytes_per_line = pix.bytesperline;
   switch (pix.xfer_func) {
     case V4L2_XFER_FUNC_SRGB:

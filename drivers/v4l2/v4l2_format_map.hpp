@@ -21,7 +21,7 @@ int preference(const PixelFormat& format);
 // Fills bytes_per_line and the colorimetry (transfer function, YCbCr encoding and range) of
 // `format` from what S_FMT returned; V4L2's "default" values resolve from the colorspace as
 // the V4L2 specification's tables say.
-void apply_colorimetry(const v4l2_pix_format& pix, PixelFormat& format);
+void apply_colourimetry(const v4l2_pix_format& pix, PixelFormat& format);
 
 std::string fourcc_text(std::uint32_t fourcc);
 std::uint32_t fourcc_from_text(const std::string& text);  // exactly four characters

@@ -35,7 +35,7 @@ ColourExposureEstimator::ColourExposureEstimator(const PinholeCamera& rgb,
 }
 
 bool ColourExposureEstimator::update(const RgbdFrame& rgbd, const FisheyeFrame& fisheye) {
-  const ImageRGB8& colour = rgbd.color;
+  const ImageRGB8& colour = rgbd.colour;
   const DepthImage& depth = rgbd.depth;
   if (colour.width() != depth.width() || colour.height() != depth.height())
     throw std::invalid_argument("colour exposure: colour and depth sizes differ");

@@ -61,7 +61,7 @@ void ColourFill::collect_samples(const RgbdFrame& frame, const PinholeIntrinsics
     for (int u = 0; u < k.width; u += p.stride) {
       const std::uint16_t z_mm = frame.depth.at(u, v, 0);
       if (z_mm == 0) continue;
-      const std::uint8_t* c = &frame.color.at(u, v, 0);
+      const std::uint8_t* c = &frame.colour.at(u, v, 0);
       const double z = z_mm * 1e-3;
       const Eigen::Vector3d X((u - k.cx) / k.fx * z, (v - k.cy) / k.fy * z, z);
       const Eigen::Vector3f d = (origin + R * X).cast<float>();
@@ -115,7 +115,7 @@ std::size_t ColourFill::sum_levels(int n) {
 ColourFillStats ColourFill::fill(envmap::ImageRGBAF& texels, const Eigen::Vector3d& where,
                                  const RgbdFrame& frame, const PinholeIntrinsics& k,
                                  const Pose& T_world_camera, const Eigen::Vector3d& e) {
-  if (frame.color.width() != k.width || frame.color.height() != k.height ||
+  if (frame.colour.width() != k.width || frame.colour.height() != k.height ||
       frame.depth.width() != k.width || frame.depth.height() != k.height)
     throw std::invalid_argument("colour fill: colour and depth must be the intrinsics' size");
   const ColourFillParams& p = params_;

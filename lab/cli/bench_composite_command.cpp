@@ -41,7 +41,7 @@ double ms_since(Clock::time_point t0) {
 // also casts a shadow: an ellipse below it on a receiver 5 cm in front of the wall, which the
 // virtual depth includes (docs/compositing.md: the matte must cover the shadow too).
 struct Frame {
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage real;
   ImageF virt;
   ImageRGBA8 virt_rgba;
@@ -62,7 +62,7 @@ Frame synthetic_frame(int w, int h) {
       f.real.at(x, y) = hole(rng) == 0 ? 0 : static_cast<std::uint16_t>(d);
       const float dx = static_cast<float>(x - w / 2), dy = static_cast<float>(y - h / 2);
       f.virt.at(x, y) = dx * dx + dy * dy < static_cast<float>(h * h) / 9.0F ? 1500.0F : 0.0F;
-      for (int c = 0; c < 3; ++c) f.color.at(x, y, c) = static_cast<std::uint8_t>(byte(rng));
+      for (int c = 0; c < 3; ++c) f.colour.at(x, y, c) = static_cast<std::uint8_t>(byte(rng));
       for (int c = 0; c < 4; ++c) f.virt_rgba.at(x, y, c) = static_cast<std::uint8_t>(byte(rng));
       const bool object = f.virt.at(x, y) > 0.0F;
       const float sy = (dy - static_cast<float>(h) / 4.0F) / (static_cast<float>(h) / 5.0F);
@@ -118,11 +118,11 @@ void run(const BenchOptions& o) {
   const auto cache = ctx.cache_stats();
 
   const auto host = synthetic_frame(o.width, o.height);
-  DeviceImageRGB8 color(ctx, host.color), out;
+  DeviceImageRGB8 colour(ctx, host.colour), out;
   DeviceDepthImage real(ctx, host.real);
   DeviceImageF virt(ctx, host.virt), alpha;
   DeviceImageRGBA8 virt_rgba(ctx, host.virt_rgba);
-  const occlusion::OcclusionInputs in{&color, &real, &virt};
+  const occlusion::OcclusionInputs in{&colour, &real, &virt};
   ImageRGB8 result;
 
   std::cout << fmt::format("bench composite: {} + composite, {}x{}, {} frames ({} warm-up)\n",
@@ -138,25 +138,25 @@ void run(const BenchOptions& o) {
       ctx.cache_dir().empty() ? "off" : ctx.cache_dir().string());
   print_row("direct + composite (device)", time_frames(ctx, o, [&] {
               direct.process(in, alpha);
-              compositor.process(color, virt_rgba, alpha, out);
+              compositor.process(colour, virt_rgba, alpha, out);
             }));
   print_row("direct only", time_frames(ctx, o, [&] { direct.process(in, alpha); }));
   print_row("composite only",
-            time_frames(ctx, o, [&] { compositor.process(color, virt_rgba, alpha, out); }));
+            time_frames(ctx, o, [&] { compositor.process(colour, virt_rgba, alpha, out); }));
   print_row("upload 4 inputs + both + download", time_frames(ctx, o, [&] {
-              color.upload(ctx.queue(), host.color, false);
+              colour.upload(ctx.queue(), host.colour, false);
               real.upload(ctx.queue(), host.real, false);
               virt.upload(ctx.queue(), host.virt, false);
               virt_rgba.upload(ctx.queue(), host.virt_rgba, false);
               direct.process(in, alpha);
-              compositor.process(color, virt_rgba, alpha, out);
+              compositor.process(colour, virt_rgba, alpha, out);
               out.download(ctx.queue(), result);
             }));
 
   // HDR compositing: the matte of the object and its shadow's receiver, computed once.
   DeviceImageF virt_with_receiver(ctx, host.virt_with_receiver), hdr_alpha;
   DeviceImage<float, 4> layer(ctx, host.layer);
-  direct.process({&color, &real, &virt_with_receiver}, hdr_alpha);
+  direct.process({&colour, &real, &virt_with_receiver}, hdr_alpha);
   const ImageF hdr_alpha_host = hdr_alpha.download(ctx.queue());
   std::size_t covered = 0;
   for (const float a : hdr_alpha_host.elements()) covered += a > 0.0F;
@@ -165,16 +165,16 @@ void run(const BenchOptions& o) {
       "  hdr composite: matte > 0 on {:.1f} % of the frame (object + shadow receiver)\n",
       100.0 * static_cast<double>(covered) / static_cast<double>(hdr_alpha_host.pixel_count()));
   print_row("hdr composite only",
-            time_frames(ctx, o, [&] { hdr.process(color, layer, hdr_alpha, camera, out); }));
+            time_frames(ctx, o, [&] { hdr.process(colour, layer, hdr_alpha, camera, out); }));
   DeviceImageF nowhere(ctx, ImageF(o.width, o.height, 0.0F));
   print_row("hdr composite, matte 0 (the copy)",
-            time_frames(ctx, o, [&] { hdr.process(color, layer, nowhere, camera, out); }));
+            time_frames(ctx, o, [&] { hdr.process(colour, layer, nowhere, camera, out); }));
   DeviceImageF everywhere(ctx, ImageF(o.width, o.height, 0.7F));
   print_row("hdr composite, matte 0.7 everywhere",
-            time_frames(ctx, o, [&] { hdr.process(color, layer, everywhere, camera, out); }));
+            time_frames(ctx, o, [&] { hdr.process(colour, layer, everywhere, camera, out); }));
   print_row("direct + hdr composite (device)", time_frames(ctx, o, [&] {
-              direct.process({&color, &real, &virt_with_receiver}, hdr_alpha);
-              hdr.process(color, layer, hdr_alpha, camera, out);
+              direct.process({&colour, &real, &virt_with_receiver}, hdr_alpha);
+              hdr.process(colour, layer, hdr_alpha, camera, out);
             }));
 }
 

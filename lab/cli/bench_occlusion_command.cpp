@@ -92,7 +92,7 @@ eval::EvalFrame synthetic_frame(int w, int h) {
                                                        : 120),
                                     std::uint8_t(box ? 170 : 90), std::uint8_t(disc ? 40 : 150)};
       for (int c = 0; c < 3; ++c)
-        f.color.at(x, y, c) = std::uint8_t(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
+        f.colour.at(x, y, c) = std::uint8_t(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
       const float v = 1300.0F + 400.0F * x / w;
       const bool on = x > 0.1F * w && x < 0.9F * w && y > 0.1F * h && y < 0.9F * h;
       f.virtual_depth_mm.at(x, y) = on ? v : 0.0F;
@@ -120,7 +120,7 @@ void run(const Options& o) {
     frame = std::move(cases.front().frames.front());  // the plane patch
     eval::crop_center(frame, o.width, o.height);
     input = fmt::format("middlebury {} (plane patch, Kinect noise seed 1), {}x{}",
-                        scene_dir.string(), frame.color.width(), frame.color.height());
+                        scene_dir.string(), frame.colour.width(), frame.colour.height());
   } else {
     frame = synthetic_frame(o.width, o.height);
     input = fmt::format("synthetic {}x{}", o.width, o.height);
@@ -132,7 +132,7 @@ void run(const Options& o) {
   spdlog::info("bench occlusion: {} on {}", input, ctx.describe());
   occlusion::CvfMatte cvf(ctx, params);
   auto& q = ctx.queue();
-  DeviceImageRGB8 color(ctx, frame.color);
+  DeviceImageRGB8 colour(ctx, frame.colour);
   DeviceDepthImage depth(ctx, frame.real_depth_mm);
   DeviceImageF virt(ctx, frame.virtual_depth_mm), alpha;
   std::vector<double> device_ms;
@@ -140,7 +140,7 @@ void run(const Options& o) {
   for (int i = 0; i < o.warmup + o.frames; ++i) {
     if (i == o.warmup) cpu0 = process_cpu_ms();
     const auto t0 = Clock::now();
-    cvf.process({&color, &depth, &virt}, alpha);
+    cvf.process({&colour, &depth, &virt}, alpha);
     q.finish();
     if (i >= o.warmup)
       device_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
@@ -155,7 +155,7 @@ void run(const Options& o) {
     cvf.set_profiling(true);
     std::vector<std::vector<double>> per_stage;
     for (int i = 0; i < 5 + o.profile_frames; ++i) {
-      cvf.process({&color, &depth, &virt}, alpha);
+      cvf.process({&colour, &depth, &virt}, alpha);
       if (i < 5) continue;
       const auto& times = cvf.stage_times();
       per_stage.resize(times.size());
@@ -172,7 +172,7 @@ void run(const Options& o) {
   for (int i = 0; i < 2 + o.reference_frames; ++i) {
     if (i == 2) ref_cpu0 = process_cpu_ms();
     const auto t0 = Clock::now();
-    ref_alpha = eval::cvf_opencv_reference(frame.color, frame.real_depth_mm, frame.virtual_depth_mm,
+    ref_alpha = eval::cvf_opencv_reference(frame.colour, frame.real_depth_mm, frame.virtual_depth_mm,
                                            params);
     if (i >= 2)
       ref_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
@@ -181,7 +181,7 @@ void run(const Options& o) {
   occlusion::CvfParams exact = params;
   exact.wide.subsample = 1;
   const auto exact_alpha =
-      occlusion::cvf_reference(frame.color, frame.real_depth_mm, frame.virtual_depth_mm, exact)
+      occlusion::cvf_reference(frame.colour, frame.real_depth_mm, frame.virtual_depth_mm, exact)
           .alpha;
 
   const double mse_device = eval::matte_mse(device_alpha, frame.truth, frame.mask).value_or(0);

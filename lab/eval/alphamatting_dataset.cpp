@@ -7,9 +7,9 @@
 namespace probeless::eval {
 namespace fs = std::filesystem;
 
-EvalFrame matting_frame(const ImageRGB8& color, const ImageGray8& trimap, const ImageGray8& alpha) {
-  const int w = color.width(), h = color.height();
-  EvalFrame f{color, DepthImage(w, h), ImageF(w, h, kMattingVirtualMm), ImageF(w, h),
+EvalFrame matting_frame(const ImageRGB8& colour, const ImageGray8& trimap, const ImageGray8& alpha) {
+  const int w = colour.width(), h = colour.height();
+  EvalFrame f{colour, DepthImage(w, h), ImageF(w, h, kMattingVirtualMm), ImageF(w, h),
               ImageGray8(w, h)};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -39,20 +39,20 @@ std::vector<EvalCase> alphamatting_cases(const fs::path& root) {
   if (images.empty()) throw ImageFileError(input, "no .png image");
   std::vector<EvalCase> cases;
   for (const auto& image : images) {
-    const auto color = read_png_rgb8(image);
+    const auto colour = read_png_rgb8(image);
     const auto alpha = read_png_gray8(gt / image.filename());
-    if (alpha.width() != color.width() || alpha.height() != color.height())
+    if (alpha.width() != colour.width() || alpha.height() != colour.height())
       throw ImageFileError(gt / image.filename(), "size differs from the input image");
     for (const auto& tdir : trimap_dirs) {
       const fs::path tpath = tdir / image.filename();
       if (!fs::exists(tpath)) continue;
       const auto trimap = read_png_gray8(tpath);
-      if (trimap.width() != color.width() || trimap.height() != color.height())
+      if (trimap.width() != colour.width() || trimap.height() != colour.height())
         throw ImageFileError(tpath, "size differs from the input image");
       EvalCase c;
       c.name = image.stem().string() + "/" + tdir.filename().string();
       c.report_sad = true;
-      c.frames.push_back(matting_frame(color, trimap, alpha));
+      c.frames.push_back(matting_frame(colour, trimap, alpha));
       cases.push_back(std::move(c));
     }
   }

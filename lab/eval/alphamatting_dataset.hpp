@@ -19,6 +19,6 @@ inline constexpr float kMattingVirtualMm = 1000.0F;
 std::vector<EvalCase> alphamatting_cases(const std::filesystem::path& root);
 
 // The synthetic inputs of one trimap (0 / 128 / 255; < 64 black, > 192 white, else unknown).
-EvalFrame matting_frame(const ImageRGB8& color, const ImageGray8& trimap, const ImageGray8& alpha);
+EvalFrame matting_frame(const ImageRGB8& colour, const ImageGray8& trimap, const ImageGray8& alpha);
 
 }  // namespace probeless::eval

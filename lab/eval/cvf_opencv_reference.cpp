@@ -11,11 +11,11 @@
 namespace probeless::eval {
 using namespace probeless::occlusion;
 
-ImageF cvf_opencv_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+ImageF cvf_opencv_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                             const ImageF& virtual_depth_mm, const CvfParams& p) {
-  const int w = color.width(), h = color.height();
+  const int w = colour.width(), h = colour.height();
   const int n = w * h;
-  const cv::Mat rgb(h, w, CV_8UC3, const_cast<std::uint8_t*>(color.data()));
+  const cv::Mat rgb(h, w, CV_8UC3, const_cast<std::uint8_t*>(colour.data()));
   cv::Mat cat(h, w, CV_8U), infront(h, w, CV_8U), behind(h, w, CV_8U), process(h, w, CV_8U);
   for (int i = 0; i < n; ++i) {
     const auto c = raw_category(real_depth_mm.data()[i], virtual_depth_mm.data()[i],
@@ -48,7 +48,7 @@ ImageF cvf_opencv_reference(const ImageRGB8& color, const DepthImage& real_depth
                       std::vector<std::uint32_t>(b * b * b)};
   std::vector<int> bins(n);
   for (int i = 0; i < n; ++i) {
-    const std::uint8_t* px = color.data() + 3 * i;
+    const std::uint8_t* px = colour.data() + 3 * i;
     bins[i] = colour_bin(px[0], px[1], px[2], b);
     const auto c = static_cast<Category>(cat.data[i]);
     if (band.data[i] && (c == Category::Infront || c == Category::Behind))

@@ -8,7 +8,7 @@
 
 namespace probeless::eval {
 
-ImageF cvf_opencv_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+ImageF cvf_opencv_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                             const ImageF& virtual_depth_mm,
                             const occlusion::CvfParams& params = {});
 

@@ -9,7 +9,7 @@
 namespace probeless::eval {
 
 struct EvalFrame {
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage real_depth_mm;  // as the sensor gives it (noisy, 0 = unknown)
   ImageF virtual_depth_mm;   // 0 = no virtual object
   ImageF truth;              // visibility of the virtual object, [0, 1]

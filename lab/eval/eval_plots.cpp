@@ -134,7 +134,7 @@ void write_example_mattes(const fs::path& dir, const EvalCase& c,
   if (c.frames.empty()) return;
   fs::create_directories(dir);
   const auto stem = file_stem(c.name);
-  write_png(dir / (stem + "_color.png"), c.frames[0].color);
+  write_png(dir / (stem + "_color.png"), c.frames[0].colour);
   write_png(dir / (stem + "_truth.png"), to_gray(c.frames[0].truth));
   for (std::size_t m = 0; m < methods.size(); ++m)
     if (!alphas[m].empty())

@@ -10,12 +10,12 @@ namespace probeless::eval {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr const char* kColorSuffix = "_color.png";
+constexpr const char* kColourSuffix = "_color.png";
 
 // Frame ids: the NNNNNN of every NNNNNN_color.png, sorted.
 std::vector<std::string> frame_ids(const fs::path& dir) {
   std::set<std::string> ids;
-  const std::string suffix = kColorSuffix;
+  const std::string suffix = kColourSuffix;
   for (const auto& e : fs::directory_iterator(dir)) {
     const auto name = e.path().filename().string();
     if (name.size() > suffix.size() &&
@@ -30,11 +30,11 @@ EvalCase load_sequence(const fs::path& dir, const std::vector<std::string>& ids)
   c.name = dir.filename().string();
   for (const auto& id : ids) {
     EvalFrame f;
-    f.color = read_png_rgb8(dir / (id + kColorSuffix));
+    f.colour = read_png_rgb8(dir / (id + kColourSuffix));
     f.real_depth_mm = read_png_depth16(dir / (id + "_depth.png"));
     f.virtual_depth_mm = read_pfm(dir / (id + "_virtual_depth.pfm"));
     const auto matte = read_png_gray8(dir / (id + "_matte.png"));
-    const int w = f.color.width(), h = f.color.height();
+    const int w = f.colour.width(), h = f.colour.height();
     auto check = [&](int iw, int ih, const std::string& file) {
       if (iw != w || ih != h)
         throw ImageFileError(dir / file, "size differs from the colour frame");

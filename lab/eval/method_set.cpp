@@ -20,7 +20,7 @@ class CvfLocalHostMethod final : public OcclusionMethod {
   void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) override {
     check_inputs(in, name());
     auto& q = ctx_.queue();
-    const auto trace = cvf_local_reference(in.color->download(q), in.real_depth_mm->download(q),
+    const auto trace = cvf_local_reference(in.colour->download(q), in.real_depth_mm->download(q),
                                            in.virtual_depth_mm->download(q), params_);
     alpha.upload(q, trace.alpha);
   }

@@ -46,9 +46,9 @@ std::uint16_t to_mm(double z) {
 StereoScene load_v2(const fs::path& dir) {
   StereoScene s;
   s.name = dir.filename().string();
-  s.color = read_png_rgb8(dir / "imL.png");
+  s.colour = read_png_rgb8(dir / "imL.png");
   const auto gt = read_png_gray8(dir / "groundtruth.png");
-  if (gt.width() != s.color.width() || gt.height() != s.color.height())
+  if (gt.width() != s.colour.width() || gt.height() != s.colour.height())
     throw ImageFileError(dir / "groundtruth.png", "size differs from imL.png");
   const fs::path info = dir / "info.txt";
   std::istringstream in(read_text(info));
@@ -65,16 +65,16 @@ StereoScene load_v2(const fs::path& dir) {
   for (int y = 0; y < gt.height(); ++y)
     for (int x = 0; x < gt.width(); ++x)
       if (const auto v = gt.at(x, y)) s.depth_mm.at(x, y) = to_mm(k / (v / scale));
-  s.focal_px = 525.0 * s.color.width() / 640.0;
+  s.focal_px = 525.0 * s.colour.width() / 640.0;
   return s;
 }
 
 StereoScene load_2014(const fs::path& dir) {
   StereoScene s;
   s.name = dir.filename().string();
-  s.color = read_png_rgb8(dir / "im0.png");
+  s.colour = read_png_rgb8(dir / "im0.png");
   const auto disp = read_pfm(dir / "disp0GT.pfm");
-  if (disp.width() != s.color.width() || disp.height() != s.color.height())
+  if (disp.width() != s.colour.width() || disp.height() != s.colour.height())
     throw ImageFileError(dir / "disp0GT.pfm", "size differs from im0.png");
   const fs::path calib = dir / "calib.txt";
   const auto text = read_text(calib);
@@ -102,7 +102,7 @@ double quantile(std::vector<double> v, double q) {
 }  // namespace
 
 void crop_center(EvalFrame& f, int crop_w, int crop_h) {
-  const int w = f.color.width(), h = f.color.height();
+  const int w = f.colour.width(), h = f.colour.height();
   if (crop_w <= 0 || crop_h <= 0 || (crop_w >= w && crop_h >= h)) return;
   const int cw = std::min(crop_w, w), ch = std::min(crop_h, h);
   const int x0 = (w - cw) / 2, y0 = (h - ch) / 2;
@@ -113,7 +113,7 @@ void crop_center(EvalFrame& f, int crop_w, int crop_h) {
         for (int c = 0; c < out.channels; ++c) out.at(x, y, c) = img.at(x0 + x, y0 + y, c);
     img = std::move(out);
   };
-  crop(f.color);
+  crop(f.colour);
   crop(f.real_depth_mm);
   crop(f.virtual_depth_mm);
   crop(f.truth);
@@ -151,7 +151,7 @@ StereoScene load_middlebury_scene(const fs::path& dir) {
 }
 
 ImageF place_virtual_object(const StereoScene& scene, VirtualShape shape) {
-  const int w = scene.color.width(), h = scene.color.height();
+  const int w = scene.colour.width(), h = scene.colour.height();
   std::vector<double> known;
   for (auto d : scene.depth_mm.elements())
     if (d) known.push_back(d);
@@ -226,7 +226,7 @@ std::vector<EvalCase> middlebury_cases(const StereoScene& scene, const Middlebur
         truth.at(x, y) = static_cast<float>(d) >= virt.at(x, y) ? 1.0F : 0.0F;
         mask.at(x, y) = d ? 255 : 0;  // unknown ground truth is not evaluated
       }
-    for (const auto& depth : noisy) c.frames.push_back({scene.color, depth, virt, truth, mask});
+    for (const auto& depth : noisy) c.frames.push_back({scene.colour, depth, virt, truth, mask});
     cases.push_back(std::move(c));
   }
   return cases;

@@ -14,7 +14,7 @@ namespace probeless::eval {
 
 struct StereoScene {
   std::string name;
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage depth_mm;  // clean; 0 = unknown ground truth
   double focal_px = 0;
 };

@@ -65,15 +65,15 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
   for (const auto& c : cases) {
     spdlog::info("eval: {} ({} frame{})", c.name, c.frames.size(), c.frames.size() == 1 ? "" : "s");
     std::vector<std::vector<ImageF>> alphas(methods.size());
-    DeviceImageRGB8 color;
+    DeviceImageRGB8 colour;
     DeviceDepthImage depth;
     DeviceImageF virt, alpha;
     for (const auto& f : c.frames) {
-      color.upload(queue, f.color);
+      colour.upload(queue, f.colour);
       depth.upload(queue, f.real_depth_mm);
       virt.upload(queue, f.virtual_depth_mm);
       for (std::size_t m = 0; m < methods.size(); ++m) {
-        methods[m]->process({&color, &depth, &virt}, alpha);
+        methods[m]->process({&colour, &depth, &virt}, alpha);
         alphas[m].push_back(alpha.download(queue));
       }
     }

@@ -264,7 +264,7 @@ TEST_F(Vivid, OpenNi2AndV4l2CombineIntoOneRig) {
   while ((rgbd < 5 || fisheye < 5) && std::chrono::steady_clock::now() < give_up) {
     RgbdFrame r;
     if (rgbd < 5 && rig.rgbd->read(r, 200ms) == ReadResult::Frame) {
-      EXPECT_EQ(r.color.width(), 320);
+      EXPECT_EQ(r.colour.width(), 320);
       EXPECT_EQ(r.depth.width(), 320);
       ++rgbd;
     }

@@ -19,7 +19,7 @@ void BilateralMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& a
   categoriser_.run(in);
   const float ks = -0.5F / (params_.sigma_space_px * params_.sigma_space_px);
   const float kc = -0.5F / (params_.sigma_colour * params_.sigma_colour) / (255.0F * 255.0F);
-  set_args(kernel_, in.color->buffer(), categoriser_.categories().buffer(), w, h, params_.radius,
+  set_args(kernel_, in.colour->buffer(), categoriser_.categories().buffer(), w, h, params_.radius,
            ks, kc, alpha.buffer());
   run_pixels(ctx_, kernel_, w, h);
 }

@@ -7,11 +7,11 @@
 
 namespace probeless::occlusion {
 
-ImageF bilateral_matte_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+ImageF bilateral_matte_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                                  const ImageF& virtual_depth_mm,
                                  const BilateralMatteParams& params) {
   const auto cats = categorise_reference(real_depth_mm, virtual_depth_mm, params.categorise);
-  const int w = color.width(), h = color.height(), r = params.radius;
+  const int w = colour.width(), h = colour.height(), r = params.radius;
   const float ks = -0.5F / (params.sigma_space_px * params.sigma_space_px);
   const float kc = -0.5F / (params.sigma_colour * params.sigma_colour) / (255.0F * 255.0F);
   ImageF alpha(w, h);
@@ -30,7 +30,7 @@ ImageF bilateral_matte_reference(const ImageRGB8& color, const DepthImage& real_
           if (cq != Category::Infront && cq != Category::Behind) continue;
           float d2 = 0.0F;
           for (int k = 0; k < 3; ++k) {
-            const float d = float(color.at(i, j, k)) - float(color.at(x, y, k));
+            const float d = float(colour.at(i, j, k)) - float(colour.at(x, y, k));
             d2 += d * d;
           }
           const float wq = std::exp(ks * float((i - x) * (i - x) + (j - y) * (j - y)) + kc * d2);

@@ -15,7 +15,7 @@ struct BilateralMatteParams {
   float sigma_colour = 0.1F;  // Euclidean RGB distance, components in [0, 1]
 };
 
-ImageF bilateral_matte_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+ImageF bilateral_matte_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                                  const ImageF& virtual_depth_mm,
                                  const BilateralMatteParams& params = {});
 

@@ -21,7 +21,7 @@ void GuidedMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alph
   packed_.resize(ctx_.context(), w, h);
   if (alpha.empty()) return;
   categoriser_.run(in);
-  set_args(pack_, in.color->buffer(), categoriser_.categories().buffer(), w, h, packed_.buffer());
+  set_args(pack_, in.colour->buffer(), categoriser_.categories().buffer(), w, h, packed_.buffer());
   run_pixels(ctx_, pack_, w, h);
   filter_.coefficients(packed_, ab_);
   filter_.apply(ab_, nullptr, &packed_, in.virtual_depth_mm, &alpha);

@@ -13,7 +13,7 @@ struct GuidedMatteParams {
 
 float guided_matte_value(Category c);
 
-ImageF guided_matte_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+ImageF guided_matte_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                               const ImageF& virtual_depth_mm, const GuidedMatteParams& params = {});
 
 }  // namespace probeless::occlusion

@@ -158,9 +158,9 @@ ImageF guided_filter_reference(const ImageRGBF& guide, const ImageF& input,
   return out;
 }
 
-ImageRGBF guide_from_rgb8(const ImageRGB8& color) {
-  ImageRGBF out(color.width(), color.height());
-  auto src = color.elements();
+ImageRGBF guide_from_rgb8(const ImageRGB8& colour) {
+  ImageRGBF out(colour.width(), colour.height());
+  auto src = colour.elements();
   auto dst = out.elements();
   for (std::size_t i = 0; i < src.size(); ++i) dst[i] = src[i] / 255.0F;
   return out;

@@ -24,6 +24,6 @@ ImageF guided_filter_reference(const ImageRGBF& guide, const ImageF& input,
                                const GuidedFilterParams& params);
 
 // Colour frame as the filter's guide: 8-bit values / 255.
-ImageRGBF guide_from_rgb8(const ImageRGB8& color);
+ImageRGBF guide_from_rgb8(const ImageRGB8& colour);
 
 }  // namespace probeless::occlusion

@@ -15,20 +15,20 @@ namespace probeless::occlusion {
 // All on the device, all the same width x height (the RGB-D camera's colour frame, with the
 // real depth registered to it and the virtual depth rendered from the same camera).
 struct OcclusionInputs {
-  const DeviceImage<std::uint8_t, 3>* color = nullptr;           // real RGB8 frame (the guide)
+  const DeviceImage<std::uint8_t, 3>* colour = nullptr;           // real RGB8 frame (the guide)
   const DeviceImage<std::uint16_t, 1>* real_depth_mm = nullptr;  // 0 = unknown
   const DeviceImage<float, 1>* virtual_depth_mm = nullptr;       // 0 = no virtual object there
 
-  int width() const { return color ? color->width() : 0; }
-  int height() const { return color ? color->height() : 0; }
+  int width() const { return colour ? colour->width() : 0; }
+  int height() const { return colour ? colour->height() : 0; }
 };
 
 // Throws std::invalid_argument unless every input is present and they all share one size.
 // Methods call it at the top of process().
 inline void check_inputs(const OcclusionInputs& in, const std::string& method) {
-  if (!in.color || !in.real_depth_mm || !in.virtual_depth_mm)
+  if (!in.colour || !in.real_depth_mm || !in.virtual_depth_mm)
     throw std::invalid_argument(method + ": an occlusion input is missing");
-  if (!in.real_depth_mm->same_size(*in.color) || !in.virtual_depth_mm->same_size(*in.color))
+  if (!in.real_depth_mm->same_size(*in.colour) || !in.virtual_depth_mm->same_size(*in.colour))
     throw std::invalid_argument(method + ": occlusion inputs differ in size");
 }
 

@@ -64,7 +64,7 @@ void CvfLocalHistogram::run(const OcclusionInputs& in, const DeviceImageGray8& c
   const std::size_t max = std::max<std::size_t>(1, ctx_.info().max_work_group_size);
   const std::size_t lx = std::min<std::size_t>(16, max);
   const std::size_t ly = std::max<std::size_t>(1, std::min<std::size_t>(16, max / lx));
-  histogram_.setArg(0, in.color->buffer());
+  histogram_.setArg(0, in.colour->buffer());
   histogram_.setArg(1, categories.buffer());
   histogram_.setArg(2, band.buffer());
   histogram_.setArg(3, w);
@@ -93,7 +93,7 @@ void CvfLocalHistogram::run(const OcclusionInputs& in, const DeviceImageGray8& c
     count_rows_.setArg(3, row_counts_.buffer());
     ctx_.run_2d(count_rows_, w, h);
   }
-  cost_kernel_.setArg(0, in.color->buffer());
+  cost_kernel_.setArg(0, in.colour->buffer());
   cost_kernel_.setArg(1, in.real_depth_mm->buffer());
   cost_kernel_.setArg(2, in.virtual_depth_mm->buffer());
   cost_kernel_.setArg(3, categories.buffer());

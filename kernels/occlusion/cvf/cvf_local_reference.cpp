@@ -10,7 +10,7 @@
 
 namespace probeless::occlusion {
 
-TileColourModels tile_histograms_reference(const ImageRGB8& color, const CategoryImage& categories,
+TileColourModels tile_histograms_reference(const ImageRGB8& colour, const CategoryImage& categories,
                                            const ImageGray8& band, int bins_per_channel,
                                            int tile_px) {
   if (bins_per_channel < 1 || bins_per_channel > 16)
@@ -19,21 +19,21 @@ TileColourModels tile_histograms_reference(const ImageRGB8& color, const Categor
   TileColourModels t;
   t.tile_px = tile_px;
   t.bins_per_channel = bins_per_channel;
-  t.tiles_x = std::max(1, (color.width() + tile_px - 1) / tile_px);
-  t.tiles_y = std::max(1, (color.height() + tile_px - 1) / tile_px);
+  t.tiles_x = std::max(1, (colour.width() + tile_px - 1) / tile_px);
+  t.tiles_y = std::max(1, (colour.height() + tile_px - 1) / tile_px);
   const auto n = static_cast<std::size_t>(t.tiles()) * t.bins();
   t.infront.assign(n, 0);
   t.behind.assign(n, 0);
   t.infront_total.assign(t.tiles(), 0);
   t.behind_total.assign(t.tiles(), 0);
-  for (int y = 0; y < color.height(); ++y)
-    for (int x = 0; x < color.width(); ++x) {
+  for (int y = 0; y < colour.height(); ++y)
+    for (int x = 0; x < colour.width(); ++x) {
       if (!band.at(x, y)) continue;
       const auto c = static_cast<Category>(categories.at(x, y));
       if (c != Category::Infront && c != Category::Behind) continue;
       const int tile = (y / tile_px) * t.tiles_x + x / tile_px;
       const int bin =
-          colour_bin(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2), bins_per_channel);
+          colour_bin(colour.at(x, y, 0), colour.at(x, y, 1), colour.at(x, y, 2), bins_per_channel);
       const auto idx = static_cast<std::size_t>(tile) * t.bins() + bin;
       if (c == Category::Infront) {
         t.infront[idx]++;
@@ -167,20 +167,20 @@ LocalCost local_cost(float p_in, float p_behind, float overlap, int n_infront, i
   return {cost, std::clamp(overlap * ambiguity, 0.0F, 1.0F)};
 }
 
-LocalCosts local_costs_reference(const ImageRGB8& color, const CategoryImage& categories,
+LocalCosts local_costs_reference(const ImageRGB8& colour, const CategoryImage& categories,
                                  const ImageGray8& band, const DepthImage& real_depth_mm,
                                  const ImageF& virtual_depth_mm, const CvfLocalParams& params) {
-  const int w = color.width(), h = color.height();
+  const int w = colour.width(), h = colour.height();
   if (params.tile_px < 0) throw std::invalid_argument("cvf_local: tile_px < 0");
   const CvfParams& p = params.cvf;
   LocalCosts t;
-  t.global = colour_histograms_reference(color, categories, band, p.bins_per_channel);
+  t.global = colour_histograms_reference(colour, categories, band, p.bins_per_channel);
   const auto need = static_cast<std::uint32_t>(std::max(1, p.min_samples));
   t.colour_models_valid = t.global.infront_total() >= need && t.global.behind_total() >= need;
   if (t.colour_models_valid) {
     if (params.tile_px > 0) {
       t.tiles =
-          tile_histograms_reference(color, categories, band, p.bins_per_channel, params.tile_px);
+          tile_histograms_reference(colour, categories, band, p.bins_per_channel, params.tile_px);
       t.likelihoods = tile_likelihoods(t.tiles, t.global, p.min_samples);
     } else {
       t.likelihoods = global_likelihoods(t.global);
@@ -203,7 +203,7 @@ LocalCosts local_costs_reference(const ImageRGB8& color, const CategoryImage& ca
         continue;
       }
       const int bin =
-          colour_bin(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2), p.bins_per_channel);
+          colour_bin(colour.at(x, y, 0), colour.at(x, y, 1), colour.at(x, y, 2), p.bins_per_channel);
       const TileBlend tb = tile_blend(t.likelihoods, x, y);
       float p_in = 0, p_be = 0;
       for (int k = 0; k < 4; ++k) {
@@ -220,9 +220,9 @@ LocalCosts local_costs_reference(const ImageRGB8& color, const CategoryImage& ca
   return t;
 }
 
-CvfLocalTrace cvf_local_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+CvfLocalTrace cvf_local_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                                   const ImageF& virtual_depth_mm, const CvfLocalParams& params) {
-  const int w = color.width(), h = color.height();
+  const int w = colour.width(), h = colour.height();
   if (real_depth_mm.width() != w || real_depth_mm.height() != h || virtual_depth_mm.width() != w ||
       virtual_depth_mm.height() != h)
     throw std::invalid_argument("cvf_local_reference: colour and depth sizes differ");
@@ -231,7 +231,7 @@ CvfLocalTrace cvf_local_reference(const ImageRGB8& color, const DepthImage& real
   t.categories = categorise_reference(real_depth_mm, virtual_depth_mm, p.categorise);
   t.band = process_band_reference(t.categories, p.band_px);
   auto lc =
-      local_costs_reference(color, t.categories, t.band, real_depth_mm, virtual_depth_mm, params);
+      local_costs_reference(colour, t.categories, t.band, real_depth_mm, virtual_depth_mm, params);
   t.global = std::move(lc.global);
   t.colour_models_valid = lc.colour_models_valid;
   t.tiles = std::move(lc.tiles);
@@ -239,7 +239,7 @@ CvfLocalTrace cvf_local_reference(const ImageRGB8& color, const DepthImage& real
   t.cost = std::move(lc.cost);
   t.softness = std::move(lc.softness);
 
-  const auto guide = guide_from_rgb8(color);
+  const auto guide = guide_from_rgb8(colour);
   t.wide = guided_filter_reference(guide, t.cost, p.wide);
   t.mask = ImageF(w, h);
   for (int y = 0; y < h; ++y)

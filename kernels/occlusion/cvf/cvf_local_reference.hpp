@@ -68,7 +68,7 @@ struct TileColourModels {
   int tiles() const { return tiles_x * tiles_y; }
 };
 
-TileColourModels tile_histograms_reference(const ImageRGB8& color, const CategoryImage& categories,
+TileColourModels tile_histograms_reference(const ImageRGB8& colour, const CategoryImage& categories,
                                            const ImageGray8& band, int bins_per_channel,
                                            int tile_px);
 
@@ -122,7 +122,7 @@ struct LocalCosts {
   ImageF cost;
   ImageF softness;  // s of step 3 (0 off process pixels and without colour models)
 };
-LocalCosts local_costs_reference(const ImageRGB8& color, const CategoryImage& categories,
+LocalCosts local_costs_reference(const ImageRGB8& colour, const CategoryImage& categories,
                                  const ImageGray8& band, const DepthImage& real_depth_mm,
                                  const ImageF& virtual_depth_mm, const CvfLocalParams& params);
 
@@ -141,7 +141,7 @@ struct CvfLocalTrace {
   ImageF alpha;  // visibility of the virtual object, 0 off it
 };
 
-CvfLocalTrace cvf_local_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+CvfLocalTrace cvf_local_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                                   const ImageF& virtual_depth_mm,
                                   const CvfLocalParams& params = {});
 

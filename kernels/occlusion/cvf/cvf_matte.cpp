@@ -125,12 +125,12 @@ void CvfMatte::process_tiles(const OcclusionInputs& in, DeviceImage<float, 1>& a
   const std::size_t local = 256;
   const std::size_t groups =
       std::clamp<std::size_t>((static_cast<std::size_t>(w) * h + 8191) / 8192, 1, 64);
-  set_args(histogram_, in.color->buffer(), categories, band_.buffer(), w * h, hist_);
+  set_args(histogram_, in.colour->buffer(), categories, band_.buffer(), w * h, hist_);
   ctx_.queue().enqueueNDRangeKernel(histogram_, ::cl::NullRange, ::cl::NDRange(groups * local),
                                     ::cl::NDRange(local));
   stage_done("histograms");
   // 3. Costs, packed with the guide at the wide filter's resolution (thesis 3.3.3).
-  set_args(cost_pack_, in.color->buffer(), in.real_depth_mm->buffer(),
+  set_args(cost_pack_, in.colour->buffer(), in.real_depth_mm->buffer(),
            in.virtual_depth_mm->buffer(), categories, hist_, std::max(1, params_.min_samples), w, h,
            wl, hl, tile_wide_in_.buffer());
   run_pixels(ctx_, cost_pack_, wl, hl);
@@ -139,7 +139,7 @@ void CvfMatte::process_tiles(const OcclusionInputs& in, DeviceImage<float, 1>& a
   tile_wide_->coefficients(tile_wide_in_, tile_wide_ab_);
   tile_wide_->apply(tile_wide_ab_, &tile_wide_mean_, nullptr, nullptr, nullptr);
   stage_done("wide filter");
-  set_args(mask_pack_, in.color->buffer(), categories, tile_wide_mean_.buffer(), w, h, wl, hl,
+  set_args(mask_pack_, in.colour->buffer(), categories, tile_wide_mean_.buffer(), w, h, wl, hl,
            tile_feather_in_.buffer());
   run_pixels(ctx_, mask_pack_, w, h);
   stage_done("threshold");
@@ -181,7 +181,7 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
       classify_scratch_bytes_ = bytes;
     }
     set_args(classify_, w, h, strip_rows, params_.categorise.depth_tolerance_mm, classify_scratch_,
-             in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), in.color->buffer(),
+             in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), in.colour->buffer(),
              categories, hist_);
     ctx_.queue().enqueueNDRangeKernel(classify_, ::cl::NullRange,
                                       ::cl::NDRange(1, static_cast<std::size_t>(groups)),
@@ -192,7 +192,7 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
   // 3.-4. Costs (thesis 3.3.3), computed inside the wide guided filter at its resolution.
   {
     auto& k = wide_->kernel();
-    set_args_from(k, StripGuidedFilter::kFirstArg, in.color->buffer(), categories,
+    set_args_from(k, StripGuidedFilter::kFirstArg, in.colour->buffer(), categories,
                   in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), hist_,
                   std::max(1, params_.min_samples), w, h, wide_mean_.buffer());
     if (trace_) k.setArg(StripGuidedFilter::kFirstArg + 9, wide_in_.buffer());
@@ -203,7 +203,7 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
   // 5. Threshold (thesis 3.3.4) inside the narrow guided filter that feathers; alpha = 1 - cost.
   {
     auto& k = feather_->kernel();
-    set_args_from(k, StripGuidedFilter::kFirstArg, in.color->buffer(), categories,
+    set_args_from(k, StripGuidedFilter::kFirstArg, in.colour->buffer(), categories,
                   wide_mean_.buffer(), wl, hl, in.virtual_depth_mm->buffer(), alpha.buffer());
     if (trace_) k.setArg(StripGuidedFilter::kFirstArg + 7, feather_in_.buffer());
     feather_->run(w, h);

@@ -39,16 +39,16 @@ ImageF visibility_from_cost(const ImageF& filtered_cost, const ImageF& virtual_d
   return alpha;
 }
 
-CvfTrace cvf_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+CvfTrace cvf_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                        const ImageF& virtual_depth_mm, const CvfParams& params) {
-  const int w = color.width(), h = color.height();
+  const int w = colour.width(), h = colour.height();
   if (real_depth_mm.width() != w || real_depth_mm.height() != h || virtual_depth_mm.width() != w ||
       virtual_depth_mm.height() != h)
     throw std::invalid_argument("cvf_reference: colour and depth sizes differ");
   CvfTrace t;
   t.categories = categorise_reference(real_depth_mm, virtual_depth_mm, params.categorise);
   t.band = process_band_reference(t.categories, params.band_px);
-  t.models = colour_histograms_reference(color, t.categories, t.band, params.bins_per_channel);
+  t.models = colour_histograms_reference(colour, t.categories, t.band, params.bins_per_channel);
   const auto min_samples = static_cast<std::uint32_t>(std::max(1, params.min_samples));
   t.colour_models_valid =
       t.models.infront_total() >= min_samples && t.models.behind_total() >= min_samples;
@@ -56,14 +56,14 @@ CvfTrace cvf_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
   t.cost = ImageF(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const int bin = colour_bin(color.at(x, y, 0), color.at(x, y, 1), color.at(x, y, 2),
+      const int bin = colour_bin(colour.at(x, y, 0), colour.at(x, y, 1), colour.at(x, y, 2),
                                  params.bins_per_channel);
       t.cost.at(x, y) =
           cvf_cost(static_cast<Category>(t.categories.at(x, y)), bin, t.models,
                    t.colour_models_valid, real_depth_mm.at(x, y), virtual_depth_mm.at(x, y));
     }
 
-  const auto guide = guide_from_rgb8(color);
+  const auto guide = guide_from_rgb8(colour);
   t.wide = guided_filter_reference(guide, t.cost, params.wide);
   t.mask = ImageF(w, h);
   for (int y = 0; y < h; ++y)

@@ -25,7 +25,7 @@ struct CvfTrace {
 float cvf_cost(Category c, int bin, const ColourModels& models, bool models_valid,
                std::uint16_t real_mm, float virtual_mm);
 
-CvfTrace cvf_reference(const ImageRGB8& color, const DepthImage& real_depth_mm,
+CvfTrace cvf_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
                        const ImageF& virtual_depth_mm, const CvfParams& params = {});
 
 // The last steps, shared with the baselines' references: alpha = 1 - filtered cost on the

@@ -17,7 +17,7 @@ struct ColourModels {
   std::uint32_t behind_total() const;
 };
 
-ColourModels colour_histograms_reference(const ImageRGB8& color, const CategoryImage& categories,
+ColourModels colour_histograms_reference(const ImageRGB8& colour, const CategoryImage& categories,
                                          const ImageGray8& band, int bins_per_channel);
 
 }  // namespace probeless::occlusion

@@ -20,7 +20,7 @@ ComputeContext& context() {
 }
 
 struct Scene {
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage depth;
   ImageF virt;
 };
@@ -34,7 +34,7 @@ Scene random_scene(int w, int h, std::uint32_t seed) {
     for (int x = 0; x < w; ++x) {
       const bool fg = std::hypot(x - cx, y - cy) < r;
       for (int c = 0; c < 3; ++c)
-        s.color.at(x, y, c) = std::uint8_t((fg ? 180 : 60) + 60 * u(rng) * (c + 1) / 3);
+        s.colour.at(x, y, c) = std::uint8_t((fg ? 180 : 60) + 60 * u(rng) * (c + 1) / 3);
       const float z = fg ? 900.0F + 30.0F * u(rng) : 1100.0F + 40.0F * u(rng);
       s.depth.at(x, y) = u(rng) < 0.05F ? 0 : std::uint16_t(z);
       s.virt.at(x, y) = x > w / 5 ? 1000.0F + 0.5F * y : 0.0F;
@@ -48,10 +48,10 @@ void expect_matches(OcclusionMethod& method, Reference&& reference, double toler
   std::uint32_t seed = 1;
   for (const auto& sz : sizes) {
     const auto s = random_scene(sz[0], sz[1], seed++);
-    DeviceImageRGB8 color(context(), s.color);
+    DeviceImageRGB8 colour(context(), s.colour);
     DeviceDepthImage depth(context(), s.depth);
     DeviceImageF virt(context(), s.virt), alpha;
-    method.process({&color, &depth, &virt}, alpha);
+    method.process({&colour, &depth, &virt}, alpha);
     const auto got = alpha.download(context().queue());
     const ImageF want = reference(s);
     for (int y = 0; y < sz[1]; ++y)
@@ -64,13 +64,13 @@ void expect_matches(OcclusionMethod& method, Reference&& reference, double toler
 TEST(BaselinesDevice, Guided) {
   GuidedMatte m(context());
   expect_matches(
-      m, [](const Scene& s) { return guided_matte_reference(s.color, s.depth, s.virt); }, 2e-4);
+      m, [](const Scene& s) { return guided_matte_reference(s.colour, s.depth, s.virt); }, 2e-4);
 }
 
 TEST(BaselinesDevice, Bilateral) {
   BilateralMatte m(context());
   expect_matches(
-      m, [](const Scene& s) { return bilateral_matte_reference(s.color, s.depth, s.virt); }, 1e-4);
+      m, [](const Scene& s) { return bilateral_matte_reference(s.colour, s.depth, s.virt); }, 1e-4);
 }
 
 TEST(BaselinesDevice, Crabb) {

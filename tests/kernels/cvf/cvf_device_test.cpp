@@ -21,7 +21,7 @@ ComputeContext& context() {
 }
 
 struct Scene {
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage depth;
   ImageF virt;
 };
@@ -41,7 +41,7 @@ Scene random_scene(int w, int h, std::uint32_t seed) {
       const std::uint8_t base[3] = {std::uint8_t(fg ? 190 : 40), std::uint8_t(x * 255 / w),
                                     std::uint8_t(fg ? 50 : 170)};
       for (int c = 0; c < 3; ++c)
-        s.color.at(x, y, c) = std::uint8_t(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
+        s.colour.at(x, y, c) = std::uint8_t(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
       const float z = fg ? 800.0F + 2.0F * (y - cy) : 2200.0F;
       s.depth.at(x, y) = near_edge || u(rng) < 0.02F ? 0 : std::uint16_t(z + n(rng));
       const bool on = (x > bx * 0.3F) || std::hypot(x - bx, y - by) < r;
@@ -140,13 +140,13 @@ void expect_cvf_matches_in(CvfLayout layout, int w, int h, std::uint32_t seed,
   SCOPED_TRACE(testing::Message() << w << "x" << h << " seed " << seed << " subsample "
                                   << params.wide.subsample << " layout " << int(layout));
   const auto s = random_scene(w, h, seed);
-  const auto ref = cvf_reference(s.color, s.depth, s.virt, params);
+  const auto ref = cvf_reference(s.colour, s.depth, s.virt, params);
   CvfMatte cvf(context(), params, /*trace=*/true, layout);
   ASSERT_EQ(cvf.layout(), layout);
-  DeviceImageRGB8 color(context(), s.color);
+  DeviceImageRGB8 colour(context(), s.colour);
   DeviceDepthImage depth(context(), s.depth);
   DeviceImageF virt(context(), s.virt), alpha;
-  cvf.process({&color, &depth, &virt}, alpha);
+  cvf.process({&colour, &depth, &virt}, alpha);
   const auto got = download(alpha);
   const auto t = cvf.download_trace();
 

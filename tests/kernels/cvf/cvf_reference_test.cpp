@@ -185,18 +185,18 @@ TEST(Categorise, BandMarksTheProcessNeighbourhood) {
 }
 
 TEST(ColourModels, CountOnlyKnownPixelsInTheBand) {
-  ImageRGB8 color(4, 1);
+  ImageRGB8 colour(4, 1);
   CategoryImage cats(4, 1);
   ImageGray8 band(4, 1, 255);
   const std::uint8_t px[4][3] = {{255, 0, 0}, {255, 0, 0}, {0, 0, 255}, {0, 0, 255}};
   for (int x = 0; x < 4; ++x)
-    for (int c = 0; c < 3; ++c) color.at(x, 0, c) = px[x][c];
+    for (int c = 0; c < 3; ++c) colour.at(x, 0, c) = px[x][c];
   cats.at(0, 0) = std::uint8_t(Category::Infront);
   cats.at(1, 0) = std::uint8_t(Category::Process);
   cats.at(2, 0) = std::uint8_t(Category::Behind);
   cats.at(3, 0) = std::uint8_t(Category::Behind);
   band.at(3, 0) = 0;
-  const auto m = colour_histograms_reference(color, cats, band, 4);
+  const auto m = colour_histograms_reference(colour, cats, band, 4);
   ASSERT_EQ(m.infront.size(), 64U);
   EXPECT_EQ(m.infront_total(), 1U);
   EXPECT_EQ(m.behind_total(), 1U);
@@ -228,7 +228,7 @@ TEST(CvfCost, CategoriesAndColourLikelihoods) {
 // A red disc (real, 600 mm) in front of a blue wall (2000 mm), a virtual plane at 1000 mm over
 // the whole image, and depth missing in a ring around the disc: colour must decide the ring.
 struct DiscScene {
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage depth;
   ImageF virt;
   ImageF truth;  // visibility
@@ -246,7 +246,7 @@ DiscScene disc_scene(int w, int h, std::uint64_t seed) {
       const std::uint8_t base[3] = {std::uint8_t(disc ? 200 : 30), 40,
                                     std::uint8_t(disc ? 30 : 200)};
       for (int c = 0; c < 3; ++c)
-        s.color.at(x, y, c) = static_cast<std::uint8_t>(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
+        s.colour.at(x, y, c) = static_cast<std::uint8_t>(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
       s.depth.at(x, y) = std::fabs(d - R) < 4.0F ? 0 : disc ? 600 : 2000;
       s.truth.at(x, y) = disc ? 0.0F : 1.0F;
     }
@@ -255,7 +255,7 @@ DiscScene disc_scene(int w, int h, std::uint64_t seed) {
 
 TEST(CvfReference, ColourDecidesWhereDepthIsMissing) {
   const auto s = disc_scene(96, 64, 1);
-  const auto t = cvf_reference(s.color, s.depth, s.virt);
+  const auto t = cvf_reference(s.colour, s.depth, s.virt);
   EXPECT_TRUE(t.colour_models_valid);
   double err = 0;
   for (int y = 0; y < 64; ++y)
@@ -270,7 +270,7 @@ TEST(CvfReference, AlphaIsZeroOffTheObject) {
   auto s = disc_scene(40, 30, 2);
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 10; ++x) s.virt.at(x, y) = 0.0F;
-  const auto t = cvf_reference(s.color, s.depth, s.virt);
+  const auto t = cvf_reference(s.colour, s.depth, s.virt);
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 10; ++x) ASSERT_EQ(t.alpha.at(x, y), 0.0F);
 }

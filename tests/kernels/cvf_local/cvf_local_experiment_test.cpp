@@ -31,25 +31,25 @@ using Method = std::function<ImageF(const eval::EvalFrame&, const CvfParams&)>;
 std::vector<std::pair<std::string, Method>> methods() {
   std::vector<std::pair<std::string, Method>> m;
   m.emplace_back("cvf", [](const eval::EvalFrame& f, const CvfParams& p) {
-    return cvf_reference(f.color, f.real_depth_mm, f.virtual_depth_mm, p).alpha;
+    return cvf_reference(f.colour, f.real_depth_mm, f.virtual_depth_mm, p).alpha;
   });
   m.emplace_back("bilateral", [](const eval::EvalFrame& f, const CvfParams& p) {
     BilateralMatteParams b;
     b.categorise = p.categorise;
-    return bilateral_matte_reference(f.color, f.real_depth_mm, f.virtual_depth_mm, b);
+    return bilateral_matte_reference(f.colour, f.real_depth_mm, f.virtual_depth_mm, b);
   });
   m.emplace_back("guided", [](const eval::EvalFrame& f, const CvfParams& p) {
     GuidedMatteParams g;
     g.categorise = p.categorise;
     g.filter = {p.wide.radius, p.wide.eps, 1};
-    return guided_matte_reference(f.color, f.real_depth_mm, f.virtual_depth_mm, g);
+    return guided_matte_reference(f.colour, f.real_depth_mm, f.virtual_depth_mm, g);
   });
   auto local = [&m](const std::string& name, std::function<void(CvfLocalParams&)> set) {
     m.emplace_back(name, [set](const eval::EvalFrame& f, const CvfParams& p) {
       CvfLocalParams lp;
       lp.cvf.categorise = p.categorise;  // the protocol's (erosion 0 for matting)
       set(lp);
-      return cvf_local_reference(f.color, f.real_depth_mm, f.virtual_depth_mm, lp).alpha;
+      return cvf_local_reference(f.colour, f.real_depth_mm, f.virtual_depth_mm, lp).alpha;
     });
   };
   // The proposed default, then one change at a time (docs/occlusion.md, the ablation table).
@@ -70,11 +70,11 @@ std::vector<std::pair<std::string, Method>> methods() {
 // truth's silhouettes white).
 ImageRGB8 category_panel(const eval::EvalFrame& f, const CvfParams& p) {
   const auto cats = categorise_reference(f.real_depth_mm, f.virtual_depth_mm, p.categorise);
-  const int w = f.color.width(), h = f.color.height();
+  const int w = f.colour.width(), h = f.colour.height();
   ImageRGB8 out(2 * w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      for (int k = 0; k < 3; ++k) out.at(x, y, k) = f.color.at(x, y, k);
+      for (int k = 0; k < 3; ++k) out.at(x, y, k) = f.colour.at(x, y, k);
       const auto c = static_cast<Category>(cats.at(x, y));
       const std::uint8_t v = f.truth.at(x, y) > 0.5F ? 255 : 90;
       out.at(w + x, y, 0) = c == Category::Infront ? v : 0;
@@ -85,7 +85,7 @@ ImageRGB8 category_panel(const eval::EvalFrame& f, const CvfParams& p) {
 }
 // Signed error of a matte, on grey: red = shown where hidden, blue = hidden where shown.
 ImageRGB8 error_panel(const eval::EvalFrame& f, const ImageF& alpha) {
-  const int w = f.color.width(), h = f.color.height();
+  const int w = f.colour.width(), h = f.colour.height();
   ImageRGB8 out(2 * w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -101,11 +101,11 @@ ImageRGB8 error_panel(const eval::EvalFrame& f, const ImageF& alpha) {
 // Left: categories again; right: where `alpha` has a larger squared error than `other` (red)
 // or a smaller one (green).
 ImageRGB8 diff_panel(const eval::EvalFrame& f, const ImageF& alpha, const ImageF& other) {
-  const int w = f.color.width(), h = f.color.height();
+  const int w = f.colour.width(), h = f.colour.height();
   ImageRGB8 out(2 * w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      for (int k = 0; k < 3; ++k) out.at(x, y, k) = f.color.at(x, y, k) / 2;
+      for (int k = 0; k < 3; ++k) out.at(x, y, k) = f.colour.at(x, y, k) / 2;
       if (!f.mask.at(x, y)) continue;
       const float ea = alpha.at(x, y) - f.truth.at(x, y), eo = other.at(x, y) - f.truth.at(x, y);
       const float d = ea * ea - eo * eo;

@@ -18,7 +18,7 @@ namespace probeless::occlusion {
 namespace {
 
 struct Frame {
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage depth;
   ImageF virt;
 };
@@ -43,7 +43,7 @@ Frame random_frame(int w, int h, std::mt19937& rng, bool only_infront = false) {
       f.depth.at(x, y) = d;
       const int p = (b + (x < w / 2 ? 0 : 1) + pal(rng) / 3) % 4;
       for (int k = 0; k < 3; ++k)
-        f.color.at(x, y, k) =
+        f.colour.at(x, y, k) =
             static_cast<std::uint8_t>(std::clamp(palette[p][k] + noise(rng), 0, 255));
     }
   return f;
@@ -54,20 +54,20 @@ bool expect_matches_reference(const Frame& f, const CvfLocalParams& params, cons
   auto& ctx = testing::cl_context();
   const auto cats = categorise_reference(f.depth, f.virt, params.cvf.categorise);
   const auto band = process_band_reference(cats, params.cvf.band_px);
-  const auto ref = local_costs_reference(f.color, cats, band, f.depth, f.virt, params);
+  const auto ref = local_costs_reference(f.colour, cats, band, f.depth, f.virt, params);
 
-  DeviceImageRGB8 color(ctx, f.color);
+  DeviceImageRGB8 colour(ctx, f.colour);
   DeviceDepthImage depth(ctx, f.depth);
   DeviceImageF virt(ctx, f.virt);
   DeviceImageGray8 dcats(ctx, cats), dband(ctx, band);
   CvfLocalHistogram stage(ctx, params);
-  stage.run({&color, &depth, &virt}, dcats, dband);
+  stage.run({&colour, &depth, &virt}, dcats, dband);
   const auto cost = stage.cost().download(ctx.queue());
   const auto soft = stage.softness().download(ctx.queue());
   EXPECT_EQ(stage.colour_models_valid(), ref.colour_models_valid) << what;
   int bad = 0;
-  for (int y = 0; y < f.color.height(); ++y)
-    for (int x = 0; x < f.color.width(); ++x) {
+  for (int y = 0; y < f.colour.height(); ++y)
+    for (int x = 0; x < f.colour.width(); ++x) {
       if (std::fabs(cost.at(x, y) - ref.cost.at(x, y)) > 1e-4F ||
           std::fabs(soft.at(x, y) - ref.softness.at(x, y)) > 1e-4F) {
         if (++bad <= 5) {
@@ -128,16 +128,16 @@ TEST(CvfLocalHistogramDevice, EvaluatorMethodRunsTheReference) {
   settings.cvf.categorise.erosion_px = 0;
   auto method = eval::make_method(ctx, "cvf_local", settings);
   EXPECT_EQ(method->name(), "cvf_local");
-  DeviceImageRGB8 color(ctx, f.color);
+  DeviceImageRGB8 colour(ctx, f.colour);
   DeviceDepthImage depth(ctx, f.depth);
   DeviceImageF virt(ctx, f.virt), alpha;
-  method->process({&color, &depth, &virt}, alpha);
+  method->process({&colour, &depth, &virt}, alpha);
   CvfLocalParams p;
   p.cvf.categorise.erosion_px = 0;
-  const auto ref = cvf_local_reference(f.color, f.depth, f.virt, p);
+  const auto ref = cvf_local_reference(f.colour, f.depth, f.virt, p);
   EXPECT_EQ(alpha.download(ctx.queue()), ref.alpha);
   p.cvf.categorise.erosion_px = 3;
-  EXPECT_NE(cvf_local_reference(f.color, f.depth, f.virt, p).alpha, ref.alpha)
+  EXPECT_NE(cvf_local_reference(f.colour, f.depth, f.virt, p).alpha, ref.alpha)
       << "the erosion must matter on this scene, else the check above proves nothing";
 }
 
@@ -168,7 +168,7 @@ TEST(CvfLocalHistogramDevice, DISABLED_TimingVga) {
     p.prior_radius = prior;
     const auto cats = categorise_reference(f.depth, f.virt, p.cvf.categorise);
     const auto band = process_band_reference(cats, p.cvf.band_px);
-    DeviceImageRGB8 color(ctx, f.color);
+    DeviceImageRGB8 colour(ctx, f.colour);
     DeviceDepthImage depth(ctx, f.depth);
     DeviceImageF virt(ctx, f.virt);
     DeviceImageGray8 dcats(ctx, cats), dband(ctx, band);
@@ -176,7 +176,7 @@ TEST(CvfLocalHistogramDevice, DISABLED_TimingVga) {
     std::vector<double> ms;
     for (int k = 0; k < 60; ++k) {
       const auto t0 = std::chrono::steady_clock::now();
-      stage.run({&color, &depth, &virt}, dcats, dband);
+      stage.run({&colour, &depth, &virt}, dcats, dband);
       ctx.queue().finish();
       ms.push_back(
           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());

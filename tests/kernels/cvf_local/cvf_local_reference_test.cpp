@@ -20,7 +20,7 @@ const std::uint8_t kColourA[3] = {200, 40, 40};
 const std::uint8_t kColourB[3] = {40, 40, 200};
 
 struct Scene {
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage depth;
   ImageF virt;
   ImageF truth;  // visibility, on process pixels
@@ -30,7 +30,7 @@ Scene blank_scene(int w, int h) {
   return {ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h, 1000.0F), ImageF(w, h)};
 }
 void paint(Scene& s, int x, int y, const std::uint8_t* rgb) {
-  for (int k = 0; k < 3; ++k) s.color.at(x, y, k) = rgb[k];
+  for (int k = 0; k < 3; ++k) s.colour.at(x, y, k) = rgb[k];
 }
 
 // 128x64, two halves that swap roles: on the left colour A (rows < 32) is in front of the
@@ -62,8 +62,8 @@ TEST(CvfLocalReference, LocalTilesDecideWhereTheGlobalModelCannot) {
   local.tile_px = 64;
   CvfLocalParams global = local;
   global.tile_px = 0;
-  const auto tl = cvf_local_reference(s.color, s.depth, s.virt, local);
-  const auto tg = cvf_local_reference(s.color, s.depth, s.virt, global);
+  const auto tl = cvf_local_reference(s.colour, s.depth, s.virt, local);
+  const auto tg = cvf_local_reference(s.colour, s.depth, s.virt, global);
   ASSERT_TRUE(tl.colour_models_valid);
   EXPECT_NEAR(tg.likelihoods.overlap[0], 1.0F, 1e-5F);  // identical global histograms
   EXPECT_LT(tl.likelihoods.overlap[0], 0.5F);           // own samples dominate: 640 vs 40 pseudo
@@ -104,8 +104,8 @@ TEST(CvfLocalReference, LocalPriorKeepsHoleLinesInsideARegion) {
   for (int y = 0; y < 48; ++y) s.depth.at(24, y) = 0;
   CvfParams cvf;
   cvf.categorise.erosion_px = 0;
-  const auto old = cvf_reference(s.color, s.depth, s.virt, cvf);
-  const auto neu = cvf_local_reference(s.color, s.depth, s.virt, exact_categories());
+  const auto old = cvf_reference(s.colour, s.depth, s.virt, cvf);
+  const auto neu = cvf_local_reference(s.colour, s.depth, s.virt, exact_categories());
   ASSERT_TRUE(old.colour_models_valid);
   for (int y = 4; y < 44; y += 8) {
     EXPECT_LT(old.alpha.at(60, y), 0.5F) << "the thesis's global model hides the line, y " << y;
@@ -166,7 +166,7 @@ TEST(CvfLocalReference, WithoutAGlobalPairTheDepthTestDecides) {
       paint(s, x, y, (x + y) % 2 ? kColourA : kColourB);
       s.depth.at(x, y) = x < 20 ? kNear : (x < 30 ? 0 : 995);  // 995: a tie, process
     }
-  const auto t = cvf_local_reference(s.color, s.depth, s.virt, exact_categories());
+  const auto t = cvf_local_reference(s.colour, s.depth, s.virt, exact_categories());
   EXPECT_FALSE(t.colour_models_valid);
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x) {
@@ -257,9 +257,9 @@ TEST(CvfLocalReference, TileHistogramsPartitionTheGlobalOne) {
   cp.erosion_px = 0;
   const auto cats = categorise_reference(s.depth, s.virt, cp);
   const auto band = process_band_reference(cats, 10);
-  const auto global = colour_histograms_reference(s.color, cats, band, 4);
+  const auto global = colour_histograms_reference(s.colour, cats, band, 4);
   for (int tile : {1, 7, 16, 64, 200}) {
-    const auto t = tile_histograms_reference(s.color, cats, band, 4, tile);
+    const auto t = tile_histograms_reference(s.colour, cats, band, 4, tile);
     for (int b = 0; b < 64; ++b) {
       std::uint32_t in = 0, be = 0;
       for (int k = 0; k < t.tiles(); ++k) {
@@ -270,7 +270,7 @@ TEST(CvfLocalReference, TileHistogramsPartitionTheGlobalOne) {
       EXPECT_EQ(be, global.behind[b]) << tile;
     }
   }
-  EXPECT_THROW(tile_histograms_reference(s.color, cats, band, 4, 0), std::invalid_argument);
+  EXPECT_THROW(tile_histograms_reference(s.colour, cats, band, 4, 0), std::invalid_argument);
 }
 
 }  // namespace

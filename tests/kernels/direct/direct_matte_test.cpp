@@ -15,7 +15,7 @@ using testing::cl_context;
 // Depths that exercise every branch: unknown real depth, no virtual object, ties, and real
 // surfaces on both sides of the object.
 struct Scene {
-  ImageRGB8 color;
+  ImageRGB8 colour;
   DepthImage real;
   ImageF virt;
 };
@@ -24,7 +24,7 @@ Scene random_scene(int w, int h, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> depth(400, 4000), pick(0, 9);
   Scene s{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h)};
-  for (auto& v : s.color.elements()) v = static_cast<std::uint8_t>(depth(rng));
+  for (auto& v : s.colour.elements()) v = static_cast<std::uint8_t>(depth(rng));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const int r = depth(rng);
@@ -46,10 +46,10 @@ TEST_P(DirectMatteTest, MatchesTheReferenceOnEverySize) {
   unsigned seed = 1;
   for (const auto& [w, h] : testing::kernel_test_sizes()) {
     const auto scene = random_scene(w, h, seed++);
-    const DeviceImage<std::uint8_t, 3> color(ctx, scene.color);
+    const DeviceImage<std::uint8_t, 3> colour(ctx, scene.colour);
     const DeviceImage<std::uint16_t, 1> real(ctx, scene.real);
     const DeviceImage<float, 1> virt(ctx, scene.virt);
-    method.process({&color, &real, &virt}, alpha);
+    method.process({&colour, &real, &virt}, alpha);
     const auto expected = direct_matte_reference(scene.real, scene.virt, GetParam());
     EXPECT_EQ(alpha.download(ctx.queue()), expected) << w << "x" << h;
   }
@@ -81,12 +81,12 @@ TEST(DirectMatteReference, Cases) {
 TEST(DirectMatte, RejectsMismatchedInputs) {
   auto& ctx = cl_context();
   DirectMatte method(ctx, UnknownDepth::Occluded);
-  const DeviceImage<std::uint8_t, 3> color(ctx, 4, 4);
+  const DeviceImage<std::uint8_t, 3> colour(ctx, 4, 4);
   const DeviceImage<std::uint16_t, 1> real(ctx, 4, 3);
   const DeviceImage<float, 1> virt(ctx, 4, 4);
   DeviceImage<float, 1> alpha;
-  EXPECT_THROW(method.process({&color, &real, &virt}, alpha), std::invalid_argument);
-  EXPECT_THROW(method.process({&color, nullptr, &virt}, alpha), std::invalid_argument);
+  EXPECT_THROW(method.process({&colour, &real, &virt}, alpha), std::invalid_argument);
+  EXPECT_THROW(method.process({&colour, nullptr, &virt}, alpha), std::invalid_argument);
 }
 
 }  // namespace

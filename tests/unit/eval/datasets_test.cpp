@@ -35,15 +35,15 @@ void expect_file_error(F&& f, const fs::path& file, const std::string& what = {}
 }
 
 // A small scene: a near box (left) in front of a far wall, textured colour.
-void write_scene_images(const fs::path& dir, int w, int h, ImageRGB8& color, ImageF& disparity) {
-  color = ImageRGB8(w, h);
+void write_scene_images(const fs::path& dir, int w, int h, ImageRGB8& colour, ImageF& disparity) {
+  colour = ImageRGB8(w, h);
   disparity = ImageF(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const bool near = x < w / 2 && y > h / 4;
-      color.at(x, y, 0) = near ? 200 : 40;
-      color.at(x, y, 1) = static_cast<std::uint8_t>((x * 7 + y * 3) % 64 + 60);
-      color.at(x, y, 2) = near ? 40 : 190;
+      colour.at(x, y, 0) = near ? 200 : 40;
+      colour.at(x, y, 1) = static_cast<std::uint8_t>((x * 7 + y * 3) % 64 + 60);
+      colour.at(x, y, 2) = near ? 40 : 190;
       disparity.at(x, y) = near ? 40.0F : 20.0F;
     }
   fs::create_directories(dir);
@@ -82,18 +82,18 @@ TEST(Pfm, MalformedFilesNameTheFile) {
 
 TEST(Middlebury, BothLayoutsGiveMetricDepth) {
   const auto root = testing::scratch_dir();
-  ImageRGB8 color;
+  ImageRGB8 colour;
   ImageF disp;
   // 2014: Z = baseline f / (d + doffs).
-  write_scene_images(root / "2014q" / "Box", 48, 32, color, disp);
-  write_png(root / "2014q/Box/im0.png", color);
+  write_scene_images(root / "2014q" / "Box", 48, 32, colour, disp);
+  write_png(root / "2014q/Box/im0.png", colour);
   disp.at(0, 0) = std::numeric_limits<float>::infinity();
   write_pfm(root / "2014q/Box/disp0GT.pfm", disp);
   write_text(root / "2014q/Box/calib.txt",
              "cam0=[ 500 0 24 ; 0 500 16 ; 0 0 1 ]\n doffs= 10 \nbaseline= 100\n width= 48");
   // v2: disparity * scale in an 8-bit PNG; median depth 1.5 m.
-  write_scene_images(root / "v2" / "box", 48, 32, color, disp);
-  write_png(root / "v2/box/imL.png", color);
+  write_scene_images(root / "v2" / "box", 48, 32, colour, disp);
+  write_png(root / "v2/box/imL.png", colour);
   ImageGray8 gt(48, 32);
   for (int y = 0; y < 32; ++y)
     for (int x = 0; x < 48; ++x) gt.at(x, y) = static_cast<std::uint8_t>(disp.at(x, y) * 4);
@@ -145,13 +145,13 @@ TEST(Middlebury, VirtualObjectsLieBetweenForegroundAndBackground) {
 }
 
 TEST(AlphaMatting, TrimapBecomesCategoriesAndTruthIsVisibility) {
-  ImageRGB8 color(3, 1);
+  ImageRGB8 colour(3, 1);
   ImageGray8 trimap(3, 1), alpha(3, 1);
   trimap.at(0, 0) = 255;
   trimap.at(1, 0) = 128;
   alpha.at(0, 0) = 255;
   alpha.at(1, 0) = 51;
-  const auto f = matting_frame(color, trimap, alpha);
+  const auto f = matting_frame(colour, trimap, alpha);
   EXPECT_EQ(f.real_depth_mm.at(0, 0), 500);  // foreground: in front of the virtual object
   EXPECT_EQ(f.real_depth_mm.at(1, 0), 0);    // unknown: "process"
   EXPECT_EQ(f.real_depth_mm.at(2, 0), 2000);

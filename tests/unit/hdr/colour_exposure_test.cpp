@@ -60,7 +60,7 @@ Pair make_pair(const Eigen::Vector3d& k, std::uint16_t depth_mm) {
             std::lround(black + std::min(4095.0 - black, 4.0 * v[c] * dn_per_unit)));
     }
   }
-  p.rgbd.color = ImageRGB8(160, 120);
+  p.rgbd.colour = ImageRGB8(160, 120);
   p.rgbd.depth = DepthImage(160, 120, depth_mm);
   const Pose T_fisheye_rgb = p.T_rig_fisheye.inverse() * p.T_rig_rgb;
   for (int y = 0; y < 120; ++y) {
@@ -70,7 +70,7 @@ Pair make_pair(const Eigen::Vector3d& k, std::uint16_t depth_mm) {
       const Eigen::Vector3d d = (T_fisheye_rgb * point).normalized();
       for (int c = 0; c < 3; ++c) {
         const double linear = std::clamp(k[c] * g(d)[c], 0.0, 1.0);
-        p.rgbd.color.at(x, y, c) =
+        p.rgbd.colour.at(x, y, c) =
             static_cast<std::uint8_t>(std::lround(255.0 * std::pow(linear, 1.0 / 2.2)));
       }
     }
@@ -97,7 +97,7 @@ TEST(ColourExposure, SkipsSaturatedColourSamples) {
   Pair p = make_pair(k, 2000);
   int clipped = 0;
   for (int y = 4; y < 60; y += 8) {
-    for (int x = 4; x < 160; x += 8) clipped += p.rgbd.color.at(x, y, 0) == 255;
+    for (int x = 4; x < 160; x += 8) clipped += p.rgbd.colour.at(x, y, 0) == 255;
   }
   ASSERT_GE(clipped, 10);  // the patch is in the sampled region
   ColourExposureEstimator est(p.rgb, p.fisheye, p.T_rig_rgb, p.T_rig_fisheye);
@@ -149,7 +149,7 @@ TEST(ColourExposure, RejectsBadInput) {
   mismatched.depth = DepthImage(80, 60, 2000);
   EXPECT_THROW(est.update(mismatched, p.raw), std::invalid_argument);
   RgbdFrame small = p.rgbd;
-  small.color = ImageRGB8(80, 60);
+  small.colour = ImageRGB8(80, 60);
   small.depth = DepthImage(80, 60, 2000);
   EXPECT_THROW(est.update(small, p.raw), std::invalid_argument);
   FisheyeFrame wrong_size = p.raw;

@@ -14,11 +14,11 @@ struct FloorView {
   RgbdFrame frame;
   Pose T_world_camera;
   explicit FloorView(std::uint8_t grey) {
-    frame.color = ImageRGB8(k.width, k.height);
+    frame.colour = ImageRGB8(k.width, k.height);
     frame.depth = DepthImage(k.width, k.height);
     for (int y = 0; y < k.height; ++y)
       for (int x = 0; x < k.width; ++x) {
-        for (int c = 0; c < 3; ++c) frame.color.at(x, y, c) = grey;
+        for (int c = 0; c < 3; ++c) frame.colour.at(x, y, c) = grey;
         frame.depth.at(x, y, 0) = 1000;
       }
     Eigen::Matrix3d r;  // camera x = world x, camera y = world -y, camera z = world -z

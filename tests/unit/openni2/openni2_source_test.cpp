@@ -86,8 +86,8 @@ Played play(Openni2RgbdSource& source, int max_frames = 1000) {
       break;
     }
     if (r != ReadResult::Frame) continue;
-    EXPECT_EQ(frame.color.width(), 320);
-    EXPECT_EQ(frame.color.height(), 240);
+    EXPECT_EQ(frame.colour.width(), 320);
+    EXPECT_EQ(frame.colour.height(), 240);
     EXPECT_EQ(frame.depth.width(), 320);
     EXPECT_EQ(frame.depth.height(), 240);
     EXPECT_GT(frame.timestamp_ns, last) << "frame " << p.frames;

@@ -24,7 +24,7 @@ FileOutputFrame frame(std::uint64_t index, int width = 64, int height = 48) {
   FileOutputFrame f;
   f.index = index;
   f.timestamp_ns = static_cast<TimestampNs>(index) * 33'333'333 + 1'000'000'000;
-  f.color =
+  f.colour =
       std::make_shared<const ImageRGB8>(gradient_image(width, height, static_cast<int>(index)));
   return f;
 }
@@ -78,7 +78,7 @@ TEST(FileOutput, WritesPngAndTheMatte) {
   out.stop();  // twice is fine
   EXPECT_EQ(out.stats().written + out.stats().dropped, 2u);
   if (out.stats().dropped == 0) {
-    EXPECT_EQ(read_png_rgb8(dir / "frame_000007.png"), *f.color);  // lossless
+    EXPECT_EQ(read_png_rgb8(dir / "frame_000007.png"), *f.colour);  // lossless
     const ImageGray8 matte = read_png_gray8(dir / "matte_000007.png");
     EXPECT_EQ(matte.at(10, 10), 255);
     EXPECT_EQ(matte.at(11, 10), 128);
@@ -98,7 +98,7 @@ TEST(FileOutput, DropsWhenBehindWithoutBlocking) {
   for (int i = 1; i <= kFrames; ++i) {
     FileOutputFrame f;
     f.index = static_cast<std::uint64_t>(i);
-    f.color = big;
+    f.colour = big;
     out.submit(std::move(f));
   }
   out.stop();

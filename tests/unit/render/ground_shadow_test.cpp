@@ -59,7 +59,7 @@ TEST_F(MaterialTest, GroundShadowWritesASignedDeltaWithoutCoverage) {
 
   RenderTarget display;  // cannot "add": not drawn at all
   renderer().render(view.camera(), {ground_quad(t0, env, 50.f)}, display);
-  EXPECT_EQ(display.color.at(cx, cy, 3), 0);
+  EXPECT_EQ(display.colour.at(cx, cy, 3), 0);
   EXPECT_EQ(display.depth_mm.at(cx, cy), 0.0f);
 }
 

@@ -32,19 +32,19 @@ TEST_F(RenderTargetTest, FloatTargetIsTheLinearDisplayPicture) {
   linear.output = ColourOutput::LinearFloat;
   renderer().render(view.camera(), {pawn}, display);
   renderer().render(view.camera(), {pawn}, linear);
-  EXPECT_TRUE(linear.color.empty()) << "the float output leaves the display image alone";
+  EXPECT_TRUE(linear.colour.empty()) << "the float output leaves the display image alone";
   ASSERT_EQ(linear.radiance.width(), view.k.width);
   int covered = 0;
   for (int y = 0; y < view.k.height; ++y)
     for (int x = 0; x < view.k.width; ++x) {
       const float a = linear.radiance.at(x, y, 3);
       ASSERT_TRUE(a == 0.f || a == 1.f);
-      ASSERT_EQ(a == 1.f, display.color.at(x, y, 3) == 255) << x << "," << y;
+      ASSERT_EQ(a == 1.f, display.colour.at(x, y, 3) == 255) << x << "," << y;
       ASSERT_EQ(linear.depth_mm.at(x, y), display.depth_mm.at(x, y));
       covered += a == 1.f;
       for (int c = 0; c < 3; ++c) {
         const double encoded = 255.0 * std::pow(linear.radiance.at(x, y, c), 1 / 2.2);
-        ASSERT_NEAR(display.color.at(x, y, c), encoded, 1.01) << x << "," << y << "," << c;
+        ASSERT_NEAR(display.colour.at(x, y, c), encoded, 1.01) << x << "," << y << "," << c;
       }
     }
   EXPECT_GT(covered, 1000);
@@ -64,10 +64,10 @@ TEST_F(RenderTargetTest, HdrValuesAndExposure) {
   RenderTarget display;
   display.exposure = 1.f / 160.f;  // 40 -> 0.25
   renderer().render(view.camera(), {view.object(mirror, bright)}, display);
-  EXPECT_NEAR(display.color.at(120, 90, 1), 255.0 * std::pow(0.25, 1 / 2.2), 1.0);
+  EXPECT_NEAR(display.colour.at(120, 90, 1), 255.0 * std::pow(0.25, 1 / 2.2), 1.0);
   display.exposure = 1.f;
   renderer().render(view.camera(), {view.object(mirror, bright)}, display);
-  EXPECT_EQ(display.color.at(120, 90, 1), 255);  // clamped
+  EXPECT_EQ(display.colour.at(120, 90, 1), 255);  // clamped
 }
 
 // A light update is a new Environment: the picture follows it, and the old one can go.

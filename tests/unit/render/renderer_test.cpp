@@ -108,7 +108,7 @@ TEST_F(RendererTest, FrontoParallelPlaneDepthWithinOneMillimetre) {
       double worst = 0;
       for (int y = 0; y < 480; ++y)
         for (int x = 0; x < 640; ++x) {
-          ASSERT_EQ(out.color.at(x, y, 3), 255) << "uncovered pixel " << x << "," << y;
+          ASSERT_EQ(out.colour.at(x, y, 3), 255) << "uncovered pixel " << x << "," << y;
           worst = std::max(worst, std::abs(out.depth_mm.at(x, y) - distance_m * 1000));
         }
       EXPECT_LT(worst, 1.0) << "at " << distance_m << " m";
@@ -124,9 +124,9 @@ struct Silhouette {
 
 Silhouette silhouette(const RenderTarget& t) {
   Silhouette s;
-  for (int y = 0; y < t.color.height(); ++y)
-    for (int x = 0; x < t.color.width(); ++x)
-      if (t.color.at(x, y, 3) > 0) {
+  for (int y = 0; y < t.colour.height(); ++y)
+    for (int x = 0; x < t.colour.width(); ++x)
+      if (t.colour.at(x, y, 3) > 0) {
         s.area += 1;
         s.cx += x;
         s.cy += y;
@@ -189,7 +189,7 @@ TEST_F(RendererTest, SphereOffAxisMatchesTangentCone) {
       // One pixel of angle at this distance from the centre of the image, generously.
       const double pixel_angle = 1.0 / k.fx;
       if (std::abs(angle - cone) < pixel_angle) continue;
-      if (inside != (out.color.at(x, y, 3) > 0)) ++wrong;
+      if (inside != (out.colour.at(x, y, 3) > 0)) ++wrong;
     }
   EXPECT_EQ(wrong, 0);
   const Silhouette s = silhouette(out);
@@ -203,7 +203,7 @@ TEST_F(RendererTest, SphereOffAxisMatchesTangentCone) {
 TEST_F(RendererTest, EmptySceneIsTransparentWithZeroDepth) {
   RenderTarget out;
   renderer().render({vga(), Pose::identity()}, {}, out);
-  for (std::uint8_t v : out.color.elements()) ASSERT_EQ(v, 0);
+  for (std::uint8_t v : out.colour.elements()) ASSERT_EQ(v, 0);
   for (float d : out.depth_mm.elements()) ASSERT_EQ(d, 0.f);
 }
 
@@ -233,7 +233,7 @@ TEST_F(RendererTest, PawnIsUprightAndCoverageMatchesDepth) {
   int top_width = 0, bottom_width = 0, top_row = -1, bottom_row = -1;
   for (int y = 0; y < 480; ++y)
     for (int x = 0; x < 640; ++x) {
-      const auto a = out.color.at(x, y, 3);
+      const auto a = out.colour.at(x, y, 3);
       ASSERT_TRUE(a == 0 || a == 255);
       ASSERT_EQ(a == 255, out.depth_mm.at(x, y) > 0) << x << "," << y;
       if (a) {
@@ -243,8 +243,8 @@ TEST_F(RendererTest, PawnIsUprightAndCoverageMatchesDepth) {
     }
   ASSERT_GT(bottom_row, top_row);
   for (int x = 0; x < 640; ++x) {
-    top_width += out.color.at(x, top_row + 3, 3) > 0;
-    bottom_width += out.color.at(x, bottom_row - 3, 3) > 0;
+    top_width += out.colour.at(x, top_row + 3, 3) > 0;
+    bottom_width += out.colour.at(x, bottom_row - 3, 3) > 0;
   }
   EXPECT_GT(bottom_width, 2 * top_width);
 }
@@ -255,7 +255,7 @@ TEST_F(RendererTest, SizeFollowsIntrinsicsAndBadInputThrows) {
   small.width = 64;
   small.height = 48;
   renderer().render({small, Pose::identity()}, {}, out);
-  EXPECT_EQ(out.color.width(), 64);
+  EXPECT_EQ(out.colour.width(), 64);
   EXPECT_EQ(out.depth_mm.height(), 48);
   VirtualObject no_mesh;
   EXPECT_THROW(renderer().render({small, Pose::identity()}, {no_mesh}, out), std::invalid_argument);
@@ -295,7 +295,7 @@ TEST_F(RendererTest, PawnMatchesGoldenImage) {
   ImageRGB8 rgb(k.width, k.height);
   for (int y = 0; y < k.height; ++y)
     for (int x = 0; x < k.width; ++x)
-      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = out.color.at(x, y, c);
+      for (int c = 0; c < 3; ++c) rgb.at(x, y, c) = out.colour.at(x, y, c);
 
   const auto golden = std::filesystem::path(PROBELESS_TEST_SOURCE_DIR) / "golden" / "pawn.png";
   const char* update = std::getenv("PROBELESS_UPDATE_GOLDEN");

@@ -117,7 +117,7 @@ TEST(RecordCommand, RecordsATumSequenceWithoutFisheye) {
   const auto rgbd = read_all<RgbdFrame>(*copy.rgbd);
   ASSERT_EQ(rgbd.size(), 3u);  // the three associated pairs
   for (std::size_t i = 0; i < rgbd.size(); ++i) {
-    EXPECT_EQ(rgbd[i].color, tum.color[i]) << i;
+    EXPECT_EQ(rgbd[i].colour, tum.colour[i]) << i;
   }
 }
 
@@ -156,7 +156,7 @@ TEST(RigFactory, OpensRecordingsWithOptions) {
   EXPECT_EQ(rig.rgbd->name(), "replay:" + dir.string());
   RgbdFrame f;
   for (int i = 0; i < 3; ++i) ASSERT_EQ(rig.rgbd->read(f, 10ms), ReadResult::Frame);
-  EXPECT_EQ(f.color, frames.rgbd[0].color);  // looped
+  EXPECT_EQ(f.colour, frames.rgbd[0].colour);  // looped
 }
 
 TEST(ProgressBar, RendersWithinWidth) {

@@ -53,7 +53,7 @@ inline TestFrames make_test_frames(int n, bool truth = true, unsigned seed = 7) 
     RgbdFrame f;
     f.sequence = 100 + static_cast<std::uint64_t>(i);
     f.timestamp_ns = 5'000'000'123 + i * 20'000'000LL;
-    f.color = noise_image<ImageRGB8>(32, 24, rng, 255);
+    f.colour = noise_image<ImageRGB8>(32, 24, rng, 255);
     f.depth = noise_image<DepthImage>(32, 24, rng, 65535);
     if (truth) {
       auto t = std::make_shared<FrameTruth>();
@@ -123,7 +123,7 @@ inline void expect_same_truth(const std::shared_ptr<const FrameTruth>& a,
 inline void expect_same(const RgbdFrame& a, const RgbdFrame& b) {
   EXPECT_EQ(a.sequence, b.sequence);
   EXPECT_EQ(a.timestamp_ns, b.timestamp_ns);
-  EXPECT_EQ(a.color, b.color);
+  EXPECT_EQ(a.colour, b.colour);
   EXPECT_EQ(a.depth, b.depth);
   expect_same_truth(a.truth, b.truth);
 }

@@ -133,7 +133,7 @@ TEST(Recording, LoopKeepsSequenceAndTimeIncreasing) {
     EXPECT_EQ(got[i].sequence, got[i - 1].sequence + 1);
     EXPECT_GT(got[i].timestamp_ns, got[i - 1].timestamp_ns);
   }
-  EXPECT_EQ(got[3].color, frames.rgbd[0].color);
+  EXPECT_EQ(got[3].colour, frames.rgbd[0].colour);
   // Span: first frame of either stream to one RGB-D period after the last of either.
   const TimestampNs last = std::max(frames.fisheye.back().timestamp_ns, frames.rgbd.back().timestamp_ns);
   const TimestampNs span = last - frames.rgbd.front().timestamp_ns + 20'000'000;

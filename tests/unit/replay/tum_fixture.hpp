@@ -11,7 +11,7 @@ namespace probeless::replay {
 struct TumFixture {
   std::filesystem::path dir;
   std::vector<DepthImage> depth;
-  std::vector<ImageRGB8> color;
+  std::vector<ImageRGB8> colour;
 };
 
 // 4 colour and 4 depth images whose timestamps interleave as in freiburg1; 3 pairs associate.

@@ -54,7 +54,7 @@ TumFixture make_tum_sequence(bool with_groundtruth) {
     write_png(fx.dir / depth_name, d);
     rgb_txt += std::string(rgb_times[i]) + " " + rgb_name + "\n";
     depth_txt += std::string(depth_times[i]) + "\t" + depth_name + "\r\n";  // tabs, CRLF
-    fx.color.push_back(c);
+    fx.colour.push_back(c);
     fx.depth.push_back(d);
   }
   write_text(fx.dir / "rgb.txt", rgb_txt);
@@ -90,7 +90,7 @@ TEST(Tum, ParsesAssociatesAndConvertsDepth) {
   EXPECT_EQ(seq.frames[0].timestamp_ns, 1'305'031'102'175'304'000);
   EXPECT_EQ(seq.frames[0].depth, "depth/1305031102.160407.png");
   EXPECT_EQ(seq.frames[1].depth, "depth/1305031102.200000.png");
-  EXPECT_EQ(seq.frames[2].color, "rgb/1305031102.243211.png");
+  EXPECT_EQ(seq.frames[2].colour, "rgb/1305031102.243211.png");
   EXPECT_EQ(seq.frames[2].depth, "depth/1305031102.240000.png");
   // Default intrinsics.
   EXPECT_EQ(seq.calibration.rgb.intrinsics(),
@@ -103,7 +103,7 @@ TEST(Tum, ParsesAssociatesAndConvertsDepth) {
   ASSERT_EQ(rig.rgbd->read(f, 10ms), ReadResult::Frame);
   EXPECT_EQ(f.sequence, 0u);
   EXPECT_EQ(f.timestamp_ns, 1'305'031'102'175'304'000);
-  EXPECT_EQ(f.color, fx.color[0]);
+  EXPECT_EQ(f.colour, fx.colour[0]);
   EXPECT_EQ(f.depth.at(0, 0), 0);
   EXPECT_EQ(f.depth.at(1, 0), 1000);
   EXPECT_EQ(f.depth.at(2, 0), 13107);
@@ -115,7 +115,7 @@ TEST(Tum, ParsesAssociatesAndConvertsDepth) {
   EXPECT_NEAR(f.truth->rig_pose->translation.x(), 1.75304, 1e-9);
   ASSERT_EQ(rig.rgbd->read(f, 10ms), ReadResult::Frame);
   ASSERT_EQ(rig.rgbd->read(f, 10ms), ReadResult::Frame);
-  EXPECT_EQ(f.color, fx.color[2]);
+  EXPECT_EQ(f.colour, fx.colour[2]);
   EXPECT_NEAR(f.truth->rig_pose->rotation.norm(), 1.0, 1e-12);  // normalised
   EXPECT_EQ(rig.rgbd->read(f, 10ms), ReadResult::EndOfStream);
 }

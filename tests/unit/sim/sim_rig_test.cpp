@@ -76,7 +76,7 @@ TEST(SimRig, SameSeedSameFrames) {
   for (int i = 0; i < 4; ++i) {
     const RgbdFrame fa = read_rgbd(a), fb = read_rgbd(b);
     EXPECT_EQ(fa.sequence, fb.sequence);
-    EXPECT_TRUE(fa.color == fb.color) << "frame " << i;
+    EXPECT_TRUE(fa.colour == fb.colour) << "frame " << i;
     EXPECT_TRUE(fa.depth == fb.depth) << "frame " << i;
     EXPECT_TRUE(fa.truth->clean_depth == fb.truth->clean_depth);
     EXPECT_TRUE(fa.truth->occluder_mask == fb.truth->occluder_mask);
@@ -86,7 +86,7 @@ TEST(SimRig, SameSeedSameFrames) {
   }
   Rig c = open("seed=6,realtime=0,trajectory=handheld");
   Rig d = open("seed=5,realtime=0,trajectory=handheld");
-  EXPECT_FALSE(read_rgbd(c).color == read_rgbd(d).color);
+  EXPECT_FALSE(read_rgbd(c).colour == read_rgbd(d).colour);
 }
 
 // Prerendered frames are the frames the sim renders live (bench pipeline --prerender measures
@@ -98,7 +98,7 @@ TEST(SimRig, PrerenderedFramesAreTheLiveOnes) {
   for (int i = 0; i < 5; ++i) {  // 3 from memory, then 2 live
     const RgbdFrame a = read_rgbd(live), b = read_rgbd(pre);
     EXPECT_EQ(a.sequence, b.sequence);
-    EXPECT_TRUE(a.color == b.color) << "frame " << i;
+    EXPECT_TRUE(a.colour == b.colour) << "frame " << i;
     EXPECT_TRUE(a.depth == b.depth) << "frame " << i;
     EXPECT_TRUE(a.truth->clean_depth == b.truth->clean_depth) << "frame " << i;
   }
@@ -131,7 +131,7 @@ TEST(SimRig, ThreadCountDoesNotChangeTheFrames) {
   Rig a = open("seed=2,realtime=0,threads=1");
   Rig b = open("seed=2,realtime=0,threads=3");
   const RgbdFrame fa = read_rgbd(a), fb = read_rgbd(b);
-  EXPECT_TRUE(fa.color == fb.color);
+  EXPECT_TRUE(fa.colour == fb.colour);
   EXPECT_TRUE(fa.depth == fb.depth);
   EXPECT_TRUE(read_fisheye(a).raw == read_fisheye(b).raw);
 }
@@ -259,7 +259,7 @@ TEST(SimRig, AutoExposureMapsMidGreyAndFollowsTheLampWithLag) {
   std::vector<double> mean;
   for (int i = 0; i < 70; ++i) {
     const RgbdFrame f = read_rgbd(rig);
-    const auto [m, log_mean] = linear_means(f.color);
+    const auto [m, log_mean] = linear_means(f.colour);
     mean.push_back(m);
     // The scene's log-mean maps near 0.18 (below it where the window clips at white).
     if (i == 50) {
