@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "core/camera/kannala_brandt.hpp"
 #include "core/camera/ocam.hpp"
@@ -20,8 +21,7 @@ PinholeCamera read_rgb(const TomlReader& r, const toml::table& root) {
   const toml::table& t = r.table(root, "the top level", "rgb");
   r.only(t, "[rgb]", {"width", "height", "fx", "fy", "cx", "cy", "distortion"});
   PinholeIntrinsics k;
-  k.width = r.positive_int(t, "[rgb]", "width");
-  k.height = r.positive_int(t, "[rgb]", "height");
+  std::tie(k.width, k.height) = r.image_size(t, "[rgb]");
   k.fx = r.number(t, "[rgb]", "fx");
   k.fy = r.number(t, "[rgb]", "fy");
   k.cx = r.number(t, "[rgb]", "cx");
@@ -46,8 +46,7 @@ std::shared_ptr<const CameraModel> read_kannala_brandt(const TomlReader& r, cons
   const std::string where = "[fisheye] (kannala_brandt)";
   r.only(t, where, {"model", "width", "height", "fx", "fy", "cx", "cy", "k", "max_theta"});
   KannalaBrandtParams p;
-  p.width = r.positive_int(t, where, "width");
-  p.height = r.positive_int(t, where, "height");
+  std::tie(p.width, p.height) = r.image_size(t, where);
   p.fx = r.number(t, where, "fx");
   p.fy = r.number(t, where, "fy");
   p.cx = r.number(t, where, "cx");
@@ -77,8 +76,7 @@ std::shared_ptr<const CameraModel> read_ocam(const TomlReader& r, const toml::ta
   r.only(t, where,
          {"model", "file", "width", "height", "pol", "invpol", "xc", "yc", "c", "d", "e"});
   OCamParams p;
-  p.width = r.positive_int(t, where, "width");
-  p.height = r.positive_int(t, where, "height");
+  std::tie(p.width, p.height) = r.image_size(t, where);
   p.pol = r.numbers(t, where, "pol", 1, 64);
   p.invpol = r.numbers(t, where, "invpol", 1, 64);
   p.xc = r.number(t, where, "xc");

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 namespace probeless {
@@ -19,6 +20,25 @@ class Image {
   Image(int width, int height, T fill = T{}) : width_(width), height_(height) {
     if (width < 0 || height < 0) throw std::invalid_argument("Image: negative size");
     data_.assign(static_cast<std::size_t>(width) * height * Channels, fill);
+  }
+  // A moved-from image is empty (0x0), not a size without pixels: code that reuses an image
+  // when its size already matches (the sources' read(frame)) must not write into nothing.
+  Image(const Image&) = default;
+  Image& operator=(const Image&) = default;
+  Image(Image&& other) noexcept
+      : width_(std::exchange(other.width_, 0)),
+        height_(std::exchange(other.height_, 0)),
+        data_(std::move(other.data_)) {
+    other.data_.clear();
+  }
+  Image& operator=(Image&& other) noexcept {
+    if (this != &other) {
+      width_ = std::exchange(other.width_, 0);
+      height_ = std::exchange(other.height_, 0);
+      data_ = std::move(other.data_);
+      other.data_.clear();
+    }
+    return *this;
   }
 
   int width() const { return width_; }

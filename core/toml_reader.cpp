@@ -3,6 +3,8 @@
 #include <cmath>
 #include <set>
 
+#include "core/read_limits.hpp"
+
 namespace probeless {
 
 toml::table TomlReader::parse(std::string_view text) const {
@@ -69,13 +71,22 @@ double TomlReader::number(const toml::node& node, std::string_view key) const {
   return *v;
 }
 
-int TomlReader::positive_int(const toml::table& t, std::string_view where,
-                             std::string_view key) const {
-  const toml::node& node = require(t, where, key);
-  const auto v = node.value_exact<std::int64_t>();
-  if (!v || *v <= 0 || *v > (1 << 20))
-    fail(&node, std::string(key) + ": expected a positive integer");
-  return static_cast<int>(*v);
+std::pair<int, int> TomlReader::image_size(const toml::table& t, std::string_view where) const {
+  std::int64_t size[2] = {};
+  const char* keys[2] = {"width", "height"};
+  for (int i = 0; i < 2; ++i) {
+    const toml::node& node = require(t, where, keys[i]);
+    const auto v = node.value_exact<std::int64_t>();
+    if (!v || *v <= 0 || *v > read_limits::kMaxImageSide)
+      fail(&node, std::string(keys[i]) + ": expected a positive integer up to " +
+                      std::to_string(read_limits::kMaxImageSide));
+    size[i] = *v;
+  }
+  if (!read_limits::image_size_ok(size[0], size[1]))
+    fail(t.get("height"), std::to_string(size[0]) + "x" + std::to_string(size[1]) +
+                              " is over the limit of " +
+                              std::to_string(read_limits::kMaxImagePixels) + " pixels");
+  return {static_cast<int>(size[0]), static_cast<int>(size[1])};
 }
 
 std::vector<double> TomlReader::numbers(const toml::node& node, std::string_view key,

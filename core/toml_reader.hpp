@@ -5,10 +5,13 @@
 #include <toml++/toml.h>
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <initializer_list>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "core/error.hpp"
@@ -36,7 +39,9 @@ class TomlReader {
   double number(const toml::table& t, std::string_view where, std::string_view key) const {
     return number(require(t, where, key), key);
   }
-  int positive_int(const toml::table& t, std::string_view where, std::string_view key) const;
+  // An image's or a camera's "width" and "height" within core/read_limits.hpp, so that what
+  // is sized from them (maps, buffers) cannot be absurd.
+  std::pair<int, int> image_size(const toml::table& t, std::string_view where) const;
   std::vector<double> numbers(const toml::table& t, std::string_view where, std::string_view key,
                               std::size_t min, std::size_t max) const {
     return numbers(require(t, where, key), key, min, max);
@@ -76,7 +81,14 @@ void TomlReader::get(const toml::table& table, std::string_view key, T& out) con
     out = node->as_string()->get();
   } else if constexpr (std::is_integral_v<T>) {
     if (!node->is_integer()) fail(node, std::string(key) + ": expected an integer");
-    out = static_cast<T>(node->as_integer()->get());
+    // TOML integers are 64-bit: one that does not fit T is an error, not its low bits (a port
+    // of 4294975616 would bind 8320).
+    const std::int64_t v = node->as_integer()->get();
+    if (!std::in_range<T>(v))
+      fail(node, std::string(key) + ": " + std::to_string(v) + " is out of range (" +
+                     std::to_string(std::numeric_limits<T>::min()) + ".." +
+                     std::to_string(std::numeric_limits<T>::max()) + ")");
+    out = static_cast<T>(v);
   } else {
     out = static_cast<T>(number(*node, key));
   }

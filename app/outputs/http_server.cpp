@@ -339,17 +339,19 @@ void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
 }
 
 void HttpServer::Impl::serve_status(evhttp_request* req) {
-  nlohmann::json body;
+  std::string text;
   try {
-    body = status ? status() : nlohmann::json::object();
+    nlohmann::json body = status ? status() : nlohmann::json::object();
     if (!body.is_object()) body = nlohmann::json{{"service", std::move(body)}};
     body["http"] = to_json(stats());
+    // A device or file name in the status may not be UTF-8: replaced (U+FFFD), since dump()
+    // would throw, and no exception may reach libevent.
+    text = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   } catch (const std::exception& e) {
     send_text(req, HTTP_INTERNAL, "Internal Server Error",
               std::string("status: ") + e.what() + "\n");
     return;
   }
-  const std::string text = body.dump();
   evbuffer* buf = evbuffer_new();
   evbuffer_add(buf, text.data(), text.size());
   send_body(req, HTTP_OK, "OK", "application/json", buf);

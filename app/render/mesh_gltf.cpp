@@ -11,6 +11,7 @@
 
 #include "app/render/mesh.hpp"
 #include "app/render/model_loading.hpp"
+#include "core/read_limits.hpp"
 
 namespace probeless::render {
 namespace {
@@ -32,8 +33,14 @@ std::vector<double> read_accessor(const tinygltf::Model& model, int index, int w
   if (components != width && !(width == 4 && components == 3))
     throw GltfError(name + ": has " + std::to_string(components) + " components, expected " +
                     std::to_string(width));
-  std::vector<double> out(acc.count * static_cast<std::size_t>(width), width == 4 ? 1.0 : 0.0);
-  if (acc.bufferView < 0) return out;  // all zeros by the spec (alpha stays 1)
+  // Every size below is the file's claim: checked without overflow before anything is
+  // allocated (a count near 2^64 / 3 used to wrap the bounds check and crash).
+  if (acc.count > static_cast<std::size_t>(read_limits::kMaxModelElements))
+    throw GltfError(name + ": count " + std::to_string(acc.count) + " is over the limit of " +
+                    std::to_string(read_limits::kMaxModelElements));
+  const std::size_t values = acc.count * static_cast<std::size_t>(width);
+  if (acc.bufferView < 0)  // all zeros by the spec (alpha stays 1)
+    return std::vector<double>(values, width == 4 ? 1.0 : 0.0);
   if (acc.bufferView >= static_cast<int>(model.bufferViews.size()))
     throw GltfError(name + ": buffer view " + std::to_string(acc.bufferView) + " does not exist");
   const tinygltf::BufferView& view = model.bufferViews[static_cast<std::size_t>(acc.bufferView)];
@@ -44,12 +51,19 @@ std::vector<double> read_accessor(const tinygltf::Model& model, int index, int w
   const int component_size =
       tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
   if (stride <= 0 || component_size <= 0) throw GltfError(name + ": invalid stride or type");
-  if (acc.count == 0) return out;
+  if (acc.count == 0) return {};
+  // The view lies in the buffer and the accessor's elements in the view. With count bounded
+  // above, stride * (count - 1) + element fits in 64 bits; the offsets are compared by
+  // subtraction so that no sum of the file's numbers can wrap.
   const std::size_t element = static_cast<std::size_t>(component_size) * components;
-  const std::size_t span =
-      acc.byteOffset + static_cast<std::size_t>(stride) * (acc.count - 1) + element;
-  if (span > view.byteLength || view.byteOffset + view.byteLength > buffer.data.size())
-    throw GltfError(name + ": reads past the end of its buffer");
+  const std::size_t span = static_cast<std::size_t>(stride) * (acc.count - 1) + element;
+  if (view.byteOffset > buffer.data.size() ||
+      view.byteLength > buffer.data.size() - view.byteOffset || acc.byteOffset > view.byteLength ||
+      span > view.byteLength - acc.byteOffset)
+    throw GltfError(name + ": " + std::to_string(acc.count) + " elements at byte " +
+                    std::to_string(acc.byteOffset) + " read past the end of its buffer view (" +
+                    std::to_string(view.byteLength) + " bytes)");
+  std::vector<double> out(values, width == 4 ? 1.0 : 0.0);
   const unsigned char* base = buffer.data.data() + view.byteOffset + acc.byteOffset;
   for (std::size_t i = 0; i < acc.count; ++i) {
     const unsigned char* e = base + i * static_cast<std::size_t>(stride);
@@ -275,7 +289,7 @@ Mesh load_gltf(const std::filesystem::path& path, const ModelLoadOptions& option
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return std::tolower(c); });
-  if (!std::filesystem::exists(path)) throw std::runtime_error(file + ": no such file");
+  detail::check_model_file(path);
   const bool ok = ext == ".glb" ? reader.LoadBinaryFromFile(&model, &err, &warn, file)
                                 : reader.LoadASCIIFromFile(&model, &err, &warn, file);
   if (!ok) {

@@ -25,7 +25,7 @@ std::string trimmed(std::string s) {
 Mesh load_obj(const std::filesystem::path& path, const ModelLoadOptions& options) {
   const std::string file = path.string();
   auto fail = [&](const std::string& what) { throw std::runtime_error(file + ": " + what); };
-  if (!std::filesystem::exists(path)) fail("no such file");
+  detail::check_model_file(path);
 
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
@@ -38,9 +38,10 @@ Mesh load_obj(const std::filesystem::path& path, const ModelLoadOptions& options
 
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   const auto& materials = reader.GetMaterials();
-  const int nv = static_cast<int>(attrib.vertices.size() / 3);
-  const int nn = static_cast<int>(attrib.normals.size() / 3);
-  const int nt = static_cast<int>(attrib.texcoords.size() / 2);
+  // Counts as size_t: an int cast of a count past 2^31 would wrap and let indices through.
+  const std::size_t nv = attrib.vertices.size() / 3;
+  const std::size_t nn = attrib.normals.size() / 3;
+  const std::size_t nt = attrib.texcoords.size() / 2;
   const Eigen::Matrix3f axes = detail::model_axes_to_world(options).cast<float>();
 
   Mesh mesh;
@@ -59,13 +60,17 @@ Mesh load_obj(const std::filesystem::path& path, const ModelLoadOptions& options
       const int material = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
       for (std::size_t c = 0; c < corners; ++c) {
         const tinyobj::index_t& i = idx[offset + c];
-        if (i.vertex_index < 0 || i.vertex_index >= nv || i.normal_index >= nn ||
-            i.texcoord_index >= nt)
+        if (i.vertex_index < 0 || static_cast<std::size_t>(i.vertex_index) >= nv ||
+            (i.normal_index >= 0 && static_cast<std::size_t>(i.normal_index) >= nn) ||
+            (i.texcoord_index >= 0 && static_cast<std::size_t>(i.texcoord_index) >= nt))
           fail("shape '" + shape.name + "' face " + std::to_string(f + 1) +
                " refers to a vertex, normal or texcoord that is not in the file");
         all_normals &= i.normal_index >= 0;
         any_uv |= i.texcoord_index >= 0;
         auto key = std::make_tuple(i.vertex_index, i.normal_index, i.texcoord_index, material);
+        // Vertex numbers are 32-bit indices: stop at the limit rather than wrap.
+        if (mesh.positions.size() >= static_cast<std::size_t>(read_limits::kMaxModelElements))
+          fail("more than " + std::to_string(read_limits::kMaxModelElements) + " vertices");
         auto [it, added] =
             vertex_of.try_emplace(key, static_cast<std::uint32_t>(mesh.positions.size()));
         if (added) {

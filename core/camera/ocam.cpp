@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/error.hpp"
+#include "core/read_limits.hpp"
 
 namespace probeless {
 
@@ -230,8 +231,14 @@ OCamCamera OCamCamera::parse(std::string_view text, std::string_view source_name
 
   const DataLine& size = in.next("the image size (height width)");
   in.expect_count(size, 2, "image size");
-  p.height = in.integer(size, 0, "image height", 1 << 16);
-  p.width = in.integer(size, 1, "image width", 1 << 16);
+  const int side = static_cast<int>(read_limits::kMaxImageSide);
+  p.height = in.integer(size, 0, "image height", side);
+  p.width = in.integer(size, 1, "image width", side);
+  if (!read_limits::image_size_ok(p.width, p.height))
+    throw ParseError(in.source(), size.number,
+                     "image size: " + std::to_string(p.width) + "x" + std::to_string(p.height) +
+                         " is over the limit of " + std::to_string(read_limits::kMaxImagePixels) +
+                         " pixels");
   in.expect_end();
 
   try {

@@ -16,6 +16,8 @@
 #include <iterator>
 #include <string>
 
+#include "core/read_limits.hpp"
+
 namespace probeless {
 namespace {
 
@@ -53,6 +55,11 @@ void write_atomically(const std::filesystem::path& path,
 ImageRGBF read_radiance(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ImageFileError(path, std::string("cannot open: ") + std::strerror(errno));
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (!ec && size > static_cast<std::uintmax_t>(read_limits::kMaxImageFileBytes))
+    throw ImageFileError(path, std::to_string(size) + " bytes, over the limit of " +
+                                   std::to_string(read_limits::kMaxImageFileBytes));
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                         std::istreambuf_iterator<char>());
   if (in.bad()) throw ImageFileError(path, "read error");
@@ -71,14 +78,43 @@ void write_radiance(const std::filesystem::path& path, const ImageRGBF& image) {
   });
 }
 
+// OpenEXR checks every header it reads against these (process-wide) maxima before it sizes
+// its own tables from the data window; set once, before the first file is opened.
+void limit_openexr_sizes() {
+  static const bool once = [] {
+    const int side = static_cast<int>(read_limits::kMaxImageSide);
+    Imf::Header::setMaxImageSize(side, side);
+    Imf::Header::setMaxTileSize(side, side);
+    return true;
+  }();
+  (void)once;
+}
+
 ImageRGBF read_openexr(const std::filesystem::path& path) {
+  limit_openexr_sizes();
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
     const long w = static_cast<long>(dw.max.x) - dw.min.x + 1;
     const long h = static_cast<long>(dw.max.y) - dw.min.y + 1;
-    if (w <= 0 || h <= 0 || h > (1L << 28) / w)
-      throw ImageFileError(path, "bad data window " + std::to_string(w) + "x" + std::to_string(h));
+    if (!read_limits::image_size_ok(w, h))
+      throw ImageFileError(path, "bad data window " + std::to_string(w) + "x" + std::to_string(h) +
+                                     " (limits: " + std::to_string(read_limits::kMaxImageSide) +
+                                     " a side, " + std::to_string(read_limits::kMaxImagePixels) +
+                                     " pixels)");
+    // The file must at least hold the chunks of so many scanlines (tiles are no smaller).
+    const auto chunks =
+        (h + read_limits::kMaxExrScanlinesPerChunk - 1) / read_limits::kMaxExrScanlinesPerChunk;
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    if (ec || size < static_cast<std::uintmax_t>(chunks * read_limits::kMinExrBytesPerChunk))
+      throw ImageFileError(path, "truncated: " + std::to_string(h) + " scanlines need at least " +
+                                     std::to_string(chunks * read_limits::kMinExrBytesPerChunk) +
+                                     " bytes, the file has " + std::to_string(ec ? 0 : size));
+    // Every chunk of the data window in the offset table (OpenEXR finds the ones a truncated
+    // table lost): a file that ends early is refused before its pixels are allocated.
+    if (!file.isComplete())
+      throw ImageFileError(path, "truncated: chunks of the image are missing");
     ImageRGBF image(static_cast<int>(w), static_cast<int>(h));
     const Imf::ChannelList& channels = file.header().channels();
     const bool rgb =

@@ -5,16 +5,20 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <string_view>
 
+#include "core/read_limits.hpp"
 #include "drivers/io/hdr_image.hpp"
 
 namespace probeless {
 namespace {
 
 constexpr std::size_t kMaxHeaderLine = 4096;
-constexpr long kMaxPixels = 1L << 28;  // refuses absurd sizes before allocating
+// The least a scanline can take in the file: one 4-byte pixel (old-style runs repeat it up to
+// 255 << 16 times; a new-style RLE scanline needs more). Checked before allocating.
+constexpr std::size_t kMinScanlineBytes = 4;
 constexpr int kMinRleWidth = 8, kMaxRleWidth = 0x7fff;
 
 class Cursor {
@@ -93,8 +97,14 @@ Header read_header(Cursor& in) {
       std::string_view(xa) != "+X" ||
       (std::string_view(ya) != "-Y" && std::string_view(ya) != "+Y"))
     in.fail("unsupported resolution line \"" + text + "\" (expected -Y H +X W or +Y H +X W)");
-  if (hh <= 0 || ww <= 0 || hh > kMaxPixels / ww)
-    in.fail("bad image size " + std::to_string(ww) + "x" + std::to_string(hh));
+  if (!read_limits::image_size_ok(ww, hh))
+    in.fail("bad image size " + std::to_string(ww) + "x" + std::to_string(hh) +
+            " (limits: " + std::to_string(read_limits::kMaxImageSide) + " a side, " +
+            std::to_string(read_limits::kMaxImagePixels) + " pixels)");
+  if (in.left() < static_cast<std::size_t>(hh) * kMinScanlineBytes)
+    in.fail("truncated: " + std::to_string(hh) + " scanlines need at least " +
+            std::to_string(static_cast<std::size_t>(hh) * kMinScanlineBytes) + " bytes, " +
+            std::to_string(in.left()) + " left");
   h.width = static_cast<int>(ww);
   h.height = static_cast<int>(hh);
   h.bottom_up = std::string_view(ya) == "+Y";
@@ -200,9 +210,17 @@ ImageRGBF decode_radiance_hdr(std::span<const std::uint8_t> bytes,
                               const std::filesystem::path& name) {
   Cursor in(bytes, name);
   const Header h = read_header(in);
+  // EXPOSURE lines multiply: a product that underflows to 0 (or overflows) would give
+  // infinite (or zero) radiance everywhere.
+  const float scale = static_cast<float>(1.0 / h.exposure);
+  if (!std::isfinite(scale) || !(scale >= std::numeric_limits<float>::min())) {
+    char product[32];
+    std::snprintf(product, sizeof product, "%g", h.exposure);
+    in.fail(std::string("EXPOSURE values multiply to ") + product +
+            ", out of range (the radiance would be " + (std::isinf(scale) ? "infinite)" : "zero)"));
+  }
   ImageRGBF image(h.width, h.height);
   std::vector<std::uint8_t> scanline(4 * static_cast<std::size_t>(h.width));
-  const float scale = static_cast<float>(1.0 / h.exposure);
   for (int i = 0; i < h.height; ++i) {
     read_scanline(in, h.width, i, scanline.data());
     float* row = image.row(h.bottom_up ? h.height - 1 - i : i);

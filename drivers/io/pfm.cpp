@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/read_limits.hpp"
+
 namespace probeless {
 namespace {
 
@@ -34,16 +36,32 @@ ImageF read_pfm(const std::filesystem::path& path) {
   } catch (const std::logic_error&) {
     throw ImageFileError(path, "bad PFM header (width, height or scale is not a number)");
   }
-  if (w <= 0 || h <= 0 || w > 1 << 15 || h > 1 << 15)
-    throw ImageFileError(path, "bad PFM size " + std::to_string(w) + "x" + std::to_string(h));
+  if (!read_limits::image_size_ok(w, h))
+    throw ImageFileError(path, "bad PFM size " + std::to_string(w) + "x" + std::to_string(h) +
+                                   " (limits: " + std::to_string(read_limits::kMaxImageSide) +
+                                   " a side, " + std::to_string(read_limits::kMaxImagePixels) +
+                                   " pixels)");
   if (scale == 0) throw ImageFileError(path, "bad PFM scale 0");
-  in.get();  // the single whitespace character after the scale
   const bool little = scale < 0;
-  std::vector<std::uint32_t> raw(static_cast<std::size_t>(w) * h);
-  in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(raw.size() * 4));
-  if (in.gcount() != static_cast<std::streamsize>(raw.size() * 4))
+  // The data is uncompressed: the file must hold all of it before any of it is allocated
+  // (a pipe, whose size is not known, is only bounded by the limits).
+  const std::size_t bytes = static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4;
+  if (in.get() == std::ifstream::traits_type::eof())  // the whitespace after the scale
+    throw ImageFileError(path, "truncated PFM data (0 of " + std::to_string(bytes) + " bytes)");
+  const std::streamoff data_start = in.tellg();
+  if (data_start >= 0 && in.seekg(0, std::ios::end)) {
+    const std::streamoff left = in.tellg() - data_start;
+    in.seekg(data_start);
+    if (left < static_cast<std::streamoff>(bytes))
+      throw ImageFileError(path, "truncated PFM data (" + std::to_string(left) + " of " +
+                                     std::to_string(bytes) + " bytes)");
+  }
+  in.clear();
+  std::vector<std::uint32_t> raw(bytes / 4);
+  in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(bytes));
+  if (in.gcount() != static_cast<std::streamsize>(bytes))
     throw ImageFileError(path, "truncated PFM data (" + std::to_string(in.gcount()) + " of " +
-                                   std::to_string(raw.size() * 4) + " bytes)");
+                                   std::to_string(bytes) + " bytes)");
   const bool swap = little != (std::endian::native == std::endian::little);
   ImageF out(w, h);
   for (int y = 0; y < h; ++y)

@@ -6,9 +6,12 @@
 #include <bit>
 #include <cerrno>
 #include <csetjmp>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <system_error>
+
+#include "core/read_limits.hpp"
 
 namespace probeless {
 namespace {
@@ -26,9 +29,8 @@ namespace {
 constexpr int kCompressionLevel = 1;
 constexpr int kCompressionStrategy = Z_RLE;
 constexpr int kWriteFilters = PNG_FILTER_SUB;
-// Bounds a corrupt header's claims before anything is allocated.
-constexpr png_uint_32 kMaxSide = 1u << 15;
-constexpr std::size_t kMaxBytes = std::size_t{1} << 30;
+// Bounds a corrupt header's claims before anything is allocated (core/read_limits.hpp).
+constexpr auto kMaxSide = static_cast<png_uint_32>(read_limits::kMaxImageSide);
 constexpr bool kLittleEndianHost = std::endian::native == std::endian::little;
 
 struct PngErrorState {
@@ -156,6 +158,18 @@ bool read_rows(png_structp png, png_infop info, png_bytepp rows) {
   return true;
 }
 
+// The bytes of a non-interlaced image as stored before deflating: a filter byte and the
+// samples of every row (interlacing only adds filter bytes).
+std::uint64_t stored_bytes(std::uint64_t width, std::uint64_t height, int color_type,
+                           int bit_depth) {
+  std::uint64_t channels = 1;  // gray, palette
+  if (color_type == PNG_COLOR_TYPE_GRAY_ALPHA) channels = 2;
+  if (color_type == PNG_COLOR_TYPE_RGB) channels = 3;
+  if (color_type == PNG_COLOR_TYPE_RGB_ALPHA) channels = 4;
+  const auto bits = width * channels * static_cast<std::uint64_t>(bit_depth);
+  return height * (1 + (bits + 7) / 8);
+}
+
 std::string describe_layout(int bit_depth, int color_type) {
   const char* kind = "unknown colour type";
   switch (color_type) {
@@ -199,6 +213,11 @@ ImageT read_png_as(const std::filesystem::path& path, ReadTarget target) {
     throw ImageFileError(path, "not a PNG file (bad signature)");
   }
 
+  // Its size bounds what the header may claim (not known for a pipe: no bound then).
+  std::error_code size_error;
+  std::uintmax_t file_bytes = std::filesystem::file_size(path, size_error);
+  if (size_error) file_bytes = UINTMAX_MAX;
+
   PngErrorState errors;
   PngReadHandle handle(&errors);
   if (!handle.valid()) throw ImageFileError(path, "libpng could not allocate a reader");
@@ -231,9 +250,20 @@ ImageT read_png_as(const std::filesystem::path& path, ReadTarget target) {
                                    " to " + std::to_string(ImageT::channels) + " channel(s) of " +
                                    std::to_string(8 * sizeof(T)) + " bits");
   }
-  if (expected_row * layout.height > kMaxBytes) {
+  if (!read_limits::image_size_ok(layout.width, layout.height)) {
     throw ImageFileError(path, "image too large (" + std::to_string(layout.width) + "x" +
-                                   std::to_string(layout.height) + ")");
+                                   std::to_string(layout.height) + "; limit " +
+                                   std::to_string(read_limits::kMaxImagePixels) + " pixels)");
+  }
+  // The pixels are deflated: the file needs at least 1/1032 of their bytes as stored.
+  const std::uint64_t stored =
+      stored_bytes(layout.width, layout.height, original_type, original_depth);
+  const std::uint64_t least = stored / read_limits::kMaxDeflateRatio;
+  if (file_bytes < least) {
+    throw ImageFileError(path, "truncated: " + std::to_string(layout.width) + "x" +
+                                   std::to_string(layout.height) + " pixels need at least " +
+                                   std::to_string(least) + " bytes, the file has " +
+                                   std::to_string(file_bytes));
   }
 
   ImageT image(static_cast<int>(layout.width), static_cast<int>(layout.height));

@@ -81,6 +81,22 @@ done
 ((${#sanitizer_env[@]} > 0)) && set -- env "${sanitizer_env[@]}" "$@"
 printf '%q ' "$@" >"$root/command"
 printf '%s' "$workdir" >"$root/workdir"
+# The guest's /tmp is a fresh tmpfs (the host's is read-only over 9p). A checkout or build under
+# the host's /tmp (the working directory, this script's tree, a path in the command) is
+# bound back into it: one line per top-level entry of /tmp to keep.
+keep_tmp() {
+  local p
+  p=$(realpath -m -- "$1")
+  if [[ $p == /tmp/?* ]]; then
+    p=${p#/tmp/}
+    printf '%s\n' "${p%%/*}"
+  fi
+}
+{
+  keep_tmp "$workdir"
+  keep_tmp "$(dirname "${BASH_SOURCE[0]}")"
+  for arg in "$@"; do if [[ $arg == /* ]]; then keep_tmp "$arg"; fi; done
+} | sort -u >"$root/keep_tmp"
 cat >"$root/init" <<'EOF'
 #!/bin/busybox sh
 /bin/busybox --install -s /bin
@@ -94,7 +110,13 @@ fi
 mount -t proc proc /host/proc
 mount -t sysfs sys /host/sys
 mount -t devtmpfs dev /host/dev
+mkdir /hosttmp
+mount -o bind /host/tmp /hosttmp
 mount -t tmpfs tmp /host/tmp
+while IFS= read -r d; do
+  if [ -d "/hosttmp/$d" ]; then mkdir -p "/host/tmp/$d"; else touch "/host/tmp/$d"; fi
+  mount -o bind "/hosttmp/$d" "/host/tmp/$d" || echo "VM: cannot bind /tmp/$d"
+done </keep_tmp
 mount -t tmpfs run /host/run
 cmd=$(cat /command)
 chroot /host /bin/sh -c "cd '$(cat /workdir)' && exec $cmd"

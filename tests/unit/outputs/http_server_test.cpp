@@ -205,6 +205,19 @@ TEST(HttpServer, StatusWithoutCallbackOrWithAFailingOne) {
   }
 }
 
+// A name that is not UTF-8 (a device, card or file name in last_error) used to make dump()
+// throw outside the try, through libevent to std::terminate: the whole service died.
+TEST(HttpServer, StatusWithInvalidUtf8IsServedWithReplacements) {
+  HttpServer server(ephemeral(), [] {
+    return nlohmann::json{{"last_error", "/dev/video\xff\xfe: gone"}};
+  });
+  const auto r = http_get(server.port(), "/status");
+  ASSERT_EQ(r.head.status, 200) << r.body;
+  const auto status = nlohmann::json::parse(r.body);
+  EXPECT_EQ(status["last_error"], "/dev/video\uFFFD\uFFFD: gone");
+  EXPECT_EQ(http_get(server.port(), "/status").head.status, 200);  // still serving
+}
+
 TEST(HttpServer, ServesTheViewerPage) {
   HttpServer server(ephemeral());
   const auto r = http_get(server.port(), "/");

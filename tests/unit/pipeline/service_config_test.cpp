@@ -117,6 +117,15 @@ TEST(ServiceConfig, UnknownKeyIsAnErrorWithItsLine) {
 
 TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[http]\nport = 70000\n"), ParseError);
+  // Past int: an error, not its low 32 bits (4294975616 = 2^32 + 8320 used to bind 8320).
+  try {
+    parse_service_config("[http]\nport = 4294975616\n", "svc.toml");
+    ADD_FAILURE() << "no ParseError";
+  } catch (const ParseError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(std::string(e.what()).find("port: 4294975616 is out of range"), std::string::npos)
+        << e.what();
+  }
   EXPECT_THROW(parse_service_config("[http]\nport = \"80\"\n"), ParseError);
   EXPECT_THROW(parse_service_config("[[object]]\nshape = \"teapot\"\n"), ParseError);
   EXPECT_THROW(parse_service_config("[[object]]\nposition = [1, 2]\n"), ParseError);

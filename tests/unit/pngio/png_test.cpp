@@ -8,6 +8,7 @@
 #include <random>
 
 #include "drivers/io/png.hpp"
+#include "support/memory_cap.hpp"
 #include "support/test_data.hpp"
 
 namespace probeless {
@@ -262,22 +263,48 @@ std::uint32_t crc32(const unsigned char* data, std::size_t n) {
   return crc ^ 0xffffffffu;
 }
 
-TEST(Png, AbsurdDimensionsAreRefusedBeforeAllocation) {
+// A small gray PNG whose IHDR claims width x height (the pixel data is still 2 x 2's).
+fs::path png_claiming(const std::string& name, std::uint32_t width, std::uint32_t height) {
   const fs::path dir = testing::scratch_dir();
   write_png(dir / "small.png", ImageGray8(2, 2));
   std::vector<char> bytes = read_bytes(dir / "small.png");
   // IHDR data starts at byte 16 (8 signature + 4 length + 4 type): width, height big-endian.
   auto* u = reinterpret_cast<unsigned char*>(bytes.data());
-  const std::array<unsigned char, 8> huge = {0x00, 0x0f, 0x42, 0x40, 0x00, 0x0f, 0x42, 0x40};
-  std::copy(huge.begin(), huge.end(), u + 16);
+  for (int i = 0; i < 4; ++i) {
+    u[16 + i] = static_cast<unsigned char>(width >> (24 - 8 * i));
+    u[20 + i] = static_cast<unsigned char>(height >> (24 - 8 * i));
+  }
   const std::uint32_t crc = crc32(u + 12, 17);  // type + 13 data bytes
   u[29] = static_cast<unsigned char>(crc >> 24);
   u[30] = static_cast<unsigned char>(crc >> 16);
   u[31] = static_cast<unsigned char>(crc >> 8);
   u[32] = static_cast<unsigned char>(crc);
-  write_bytes(dir / "huge.png", bytes.data(), bytes.size());
-  expect_image_error([&] { (void)read_png_gray8(dir / "huge.png"); }, dir / "huge.png",
-                     "exceeds user limit");
+  write_bytes(dir / name, bytes.data(), bytes.size());
+  return dir / name;
+}
+
+TEST(Png, AbsurdDimensionsAreRefusedBeforeAllocation) {
+  const fs::path huge = png_claiming("huge.png", 1000000, 1000000);
+  expect_image_error([&] { (void)read_png_gray8(huge); }, huge, "exceeds user limit");
+}
+
+// Claims within libpng's side limit that the file cannot back: 16384 x 16384 is over the pixel
+// limit; 8192 x 8192 gray needs 64 MiB of pixels, at least 65 KB deflated, in a 70-byte file.
+// Each is refused before the image is allocated (the reader runs with 16 MiB to spare).
+TEST(Png, ClaimsTheFileCannotHoldAreRefusedBeforeAllocation) {
+  auto read_capped = [](const fs::path& path) {
+    return testing::what_with_memory_cap(16u << 20, [&] { (void)read_png_gray8(path); });
+  };
+  const fs::path over = png_claiming("over.png", 16384, 16384);
+  std::string what = read_capped(over);
+  EXPECT_NE(what.find("over.png: image too large (16384x16384; limit 67108864 pixels)"),
+            std::string::npos)
+      << what;
+  const fs::path empty = png_claiming("empty.png", 8192, 8192);
+  what = read_capped(empty);
+  EXPECT_NE(what.find("empty.png: truncated: 8192x8192 pixels need at least 65035 bytes"),
+            std::string::npos)
+      << what;
 }
 
 TEST(Png, WriteFailuresNameTheFile) {
