@@ -101,7 +101,7 @@ struct PngLayout {
   png_uint_32 width = 0;
   png_uint_32 height = 0;
   int bit_depth = 0;
-  int color_type = 0;
+  int colour_type = 0;
   int channels = 0;
   std::size_t row_bytes = 0;
 };
@@ -116,24 +116,24 @@ bool read_header(png_structp png, png_infop info, std::FILE* file, PngLayout* ou
   out->width = png_get_image_width(png, info);
   out->height = png_get_image_height(png, info);
   out->bit_depth = png_get_bit_depth(png, info);
-  out->color_type = png_get_color_type(png, info);
+  out->colour_type = png_get_color_type(png, info);
   return true;
 }
 
 // Jump target. Sets the conversions for `target` and reports the resulting row layout.
 bool set_transforms(png_structp png, png_infop info, ReadTarget target, PngLayout* out) {
   if (setjmp(png_jmpbuf(png))) return false;
-  const int color_type = out->color_type;
+  const int colour_type = out->colour_type;
   if (target == ReadTarget::RGB8 || target == ReadTarget::Gray8) {
-    if (color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
-    if (color_type == PNG_COLOR_TYPE_GRAY && out->bit_depth < 8) {
+    if (colour_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+    if (colour_type == PNG_COLOR_TYPE_GRAY && out->bit_depth < 8) {
       png_set_expand_gray_1_2_4_to_8(png);
     }
     if (out->bit_depth == 16) png_set_scale_16(png);
-    if ((color_type & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS)) {
+    if ((colour_type & PNG_COLOR_MASK_ALPHA) || png_get_valid(png, info, PNG_INFO_tRNS)) {
       png_set_strip_alpha(png);
     }
-    const bool is_colour = (color_type & PNG_COLOR_MASK_COLOR) != 0;
+    const bool is_colour = (colour_type & PNG_COLOR_MASK_COLOR) != 0;
     if (target == ReadTarget::RGB8 && !is_colour) png_set_gray_to_rgb(png);
     // Rec. 709 luma weights (libpng's defaults without a cHRM chunk).
     if (target == ReadTarget::Gray8 && is_colour) {
@@ -160,19 +160,19 @@ bool read_rows(png_structp png, png_infop info, png_bytepp rows) {
 
 // The bytes of a non-interlaced image as stored before deflating: a filter byte and the
 // samples of every row (interlacing only adds filter bytes).
-std::uint64_t stored_bytes(std::uint64_t width, std::uint64_t height, int color_type,
+std::uint64_t stored_bytes(std::uint64_t width, std::uint64_t height, int colour_type,
                            int bit_depth) {
   std::uint64_t channels = 1;  // gray, palette
-  if (color_type == PNG_COLOR_TYPE_GRAY_ALPHA) channels = 2;
-  if (color_type == PNG_COLOR_TYPE_RGB) channels = 3;
-  if (color_type == PNG_COLOR_TYPE_RGB_ALPHA) channels = 4;
+  if (colour_type == PNG_COLOR_TYPE_GRAY_ALPHA) channels = 2;
+  if (colour_type == PNG_COLOR_TYPE_RGB) channels = 3;
+  if (colour_type == PNG_COLOR_TYPE_RGB_ALPHA) channels = 4;
   const auto bits = width * channels * static_cast<std::uint64_t>(bit_depth);
   return height * (1 + (bits + 7) / 8);
 }
 
-std::string describe_layout(int bit_depth, int color_type) {
+std::string describe_layout(int bit_depth, int colour_type) {
   const char* kind = "unknown colour type";
-  switch (color_type) {
+  switch (colour_type) {
     case PNG_COLOR_TYPE_GRAY:
       kind = "gray";
       break;
@@ -227,7 +227,7 @@ ImageT read_png_as(const std::filesystem::path& path, ReadTarget target) {
     throw ImageFileError(path, libpng_failure(errors));
   }
   const int original_depth = layout.bit_depth;
-  const int original_type = layout.color_type;
+  const int original_type = layout.colour_type;
   if (target == ReadTarget::Gray16 &&
       (original_depth != 16 || original_type != PNG_COLOR_TYPE_GRAY)) {
     throw ImageFileError(path, "expected a 16-bit single-channel PNG, got " +
@@ -283,7 +283,7 @@ struct WriteSpec {
   png_uint_32 width;
   png_uint_32 height;
   int bit_depth;
-  int color_type;
+  int colour_type;
 };
 
 // Jump target. `file` may be null when the caller has installed its own write function.
@@ -291,7 +291,7 @@ bool write_image(png_structp png, png_infop info, std::FILE* file, const WriteSp
                  png_bytepp rows) {
   if (setjmp(png_jmpbuf(png))) return false;
   if (file) png_init_io(png, file);
-  png_set_IHDR(png, info, spec->width, spec->height, spec->bit_depth, spec->color_type,
+  png_set_IHDR(png, info, spec->width, spec->height, spec->bit_depth, spec->colour_type,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_set_compression_level(png, kCompressionLevel);
   png_set_compression_strategy(png, kCompressionStrategy);
