@@ -27,5 +27,7 @@ void add_eval_sh_command(CLI::App& eval);
 void add_eval_light_command(CLI::App& eval);
 // probeless eval render --source sim [--seconds S --json F] (eval_render_command.cpp)
 void add_eval_render_command(CLI::App& eval);
+// probeless eval marker --image F --camera F.yml [--board SPEC --json F] (eval_marker_command.cpp)
+void add_eval_marker_command(CLI::App& eval);
 
 }  // namespace probeless::cli
