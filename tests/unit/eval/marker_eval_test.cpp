@@ -77,11 +77,12 @@ TEST(EvalMarker, BadInputsAreClearErrors) {
 
 // Runs `probeless ARGS` (through the appliance binary, which hands eval to the lab); returns
 // the exit status and, in `output`, stdout and stderr.
-int run_probeless(std::vector<std::string> args, std::string& output) {
+int run_probeless(const std::vector<std::string>& args, std::string& output) {
   using namespace std::chrono_literals;
   const char* bin = std::getenv("PROBELESS_BINARY");
-  args.insert(args.begin(), bin ? bin : "probeless");
-  testing::Subprocess p(args, {}, /*merge_stderr=*/true);
+  std::vector<std::string> argv{bin ? bin : "probeless"};
+  for (const auto& a : args) argv.push_back(a);
+  testing::Subprocess p(argv, {}, /*merge_stderr=*/true);
   p.wait_for_line("\x01 no such line", 60s);  // reads all output, until EOF
   const auto status = p.wait(60s);
   output = p.output();
