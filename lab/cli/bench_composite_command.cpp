@@ -12,12 +12,12 @@
 #include <random>
 
 #include "base/stage_stats.hpp"
-#include "lab/cli/lab_commands.hpp"
 #include "kernels/composite/compositor.hpp"
 #include "kernels/composite/hdr_compositor.hpp"
 #include "kernels/occlusion/baselines/direct_matte.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_image.hpp"
+#include "lab/cli/lab_commands.hpp"
 
 namespace probeless::cli {
 namespace {

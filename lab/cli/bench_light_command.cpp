@@ -10,12 +10,12 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "lab/cli/lab_commands.hpp"
 #include "base/stage_stats.hpp"
 #include "core/exposure_count.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "kernels/light/light_estimator.hpp"
+#include "lab/cli/lab_commands.hpp"
 
 namespace probeless::cli {
 namespace {
@@ -113,9 +113,7 @@ void run(const Options& o) {
         {"room_box", o.room},
         {"load_average", {load[0], load[1], load[2]}},
         {"device", ctx.describe()}};
-    std::ofstream out(o.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, j);
   }
 }
 

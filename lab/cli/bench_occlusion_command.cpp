@@ -14,12 +14,12 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "kernels/occlusion/cvf/cvf_matte.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 #include "lab/cli/lab_commands.hpp"
 #include "lab/eval/cvf_opencv_reference.hpp"
 #include "lab/eval/matte_metrics.hpp"
 #include "lab/eval/middlebury_dataset.hpp"
-#include "kernels/occlusion/cvf/cvf_matte.hpp"
-#include "kernels/occlusion/cvf/cvf_reference.hpp"
 
 namespace probeless::cli {
 namespace {
@@ -172,8 +172,8 @@ void run(const Options& o) {
   for (int i = 0; i < 2 + o.reference_frames; ++i) {
     if (i == 2) ref_cpu0 = process_cpu_ms();
     const auto t0 = Clock::now();
-    ref_alpha = eval::cvf_opencv_reference(frame.colour, frame.real_depth_mm, frame.virtual_depth_mm,
-                                           params);
+    ref_alpha = eval::cvf_opencv_reference(frame.colour, frame.real_depth_mm,
+                                           frame.virtual_depth_mm, params);
     if (i >= 2)
       ref_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
@@ -233,9 +233,7 @@ void run(const Options& o) {
     for (const auto& [stage, ms] : stages) j["cvf_stages_ms"][stage] = ms;
     j["input"] = input;
     j["device"] = ctx.describe();
-    std::ofstream out(o.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, j);
   }
 }
 

@@ -13,8 +13,8 @@
 #include <thread>
 
 #include "base/stage_stats.hpp"
-#include "lab/cli/lab_commands.hpp"
 #include "drivers/sim/sim_rig.hpp"
+#include "lab/cli/lab_commands.hpp"
 
 namespace probeless::cli {
 namespace {
@@ -171,9 +171,7 @@ void run(const BenchSimOptions& o) {
                            {"frames", o.frames},
                            {"sim", spec},
                            {"hardware_threads", std::thread::hardware_concurrency()}};
-    std::ofstream out(o.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, j);
   }
 }
 

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "lab/cli/lab_commands.hpp"
 #include "drivers/bracket/bracket_simulation.hpp"
 #include "drivers/io/hdr_image.hpp"
+#include "lab/cli/lab_commands.hpp"
 
 namespace probeless::cli {
 namespace {
@@ -74,9 +74,7 @@ void run(const Options& o) {
       j = nlohmann::json::array();
       for (const auto& r : reports) j.push_back(to_json(r));
     }
-    std::ofstream out(o.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, j);
   }
 }
 

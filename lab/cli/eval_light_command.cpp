@@ -103,9 +103,7 @@ void run(Options& o) {
                            {"keyframe_to_last_capture_m", r.keyframe_to_last_capture_m},
                            {"p50_ms", r.total.p50_ms},
                            {"p99_ms", r.total.p99_ms}};
-    std::ofstream out(o.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, j);
   }
 }
 

@@ -46,9 +46,7 @@ void run(const Options& o) {
       j["rms_px"] = pose.rms_px;
       j["max_px"] = pose.max_px;
     }
-    std::ofstream out(o.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, j);
   }
   if (!pose.found) throw CommandError("no board pose in " + o.image);
 }

@@ -60,9 +60,7 @@ void run(const Options& o) {
   report.protocol = protocol;
   std::cout << format_report(report) << std::flush;
   if (!o.json.empty()) {
-    std::ofstream out(o.json);
-    out << eval::report_json(report).dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, eval::report_json(report));
   }
 }
 

@@ -87,9 +87,7 @@ void run(Options& o) {
         {"fisheye_frames", r.fisheye_frames},
         {"snapshots", r.snapshots},
         {"lamp", lamp}};
-    std::ofstream out(o.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, j);
   }
 }
 

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "lab/cli/lab_commands.hpp"
 #include "core/sh.hpp"
 #include "drivers/io/hdr_image.hpp"
+#include "lab/cli/lab_commands.hpp"
 
 namespace probeless::cli {
 namespace {
@@ -89,9 +89,7 @@ void run(const Options& o) {
                               {"names", names},
                               {"sh9", sh9},
                               {"sh25", sh25}};
-    std::ofstream out(o.json);
-    out << j.dump(2) << "\n";
-    if (!out) throw CommandError("cannot write " + o.json);
+    write_json_report(o.json, j);
   }
 }
 

@@ -2,9 +2,16 @@
 // The lab's commands (docs/architecture.md "The lab"): evaluations against ground truth and
 // benchmarks. They run as `probeless eval ...` / `probeless bench ...`: the appliance binary
 // hands those to the lab binary (app/cli/lab_dispatch.hpp), which registers them here.
+#include <nlohmann/json.hpp>
+#include <string>
+
 #include "app/cli/commands.hpp"
 
 namespace probeless::cli {
+
+// Writes a command's `--json` report (indented, as scripts read it); throws CommandError when
+// the file cannot be written.
+void write_json_report(const std::string& path, const nlohmann::json& report);
 
 // probeless bench pipeline [--frames N] [--json FILE] (bench_pipeline_command.cpp)
 void add_bench_pipeline_command(CLI::App& bench);
