@@ -34,8 +34,8 @@ struct RgbdFrame {
 struct FisheyeFrame {
   std::uint64_t sequence = 0;
   TimestampNs timestamp_ns = 0;
-  ImageRGB16 raw;              // linear sensor values in [0, 2^bit_depth - 1]
-  int bit_depth = 12;          // 8 or 12 (values are not shifted to 16 bit)
+  ImageRGB16 raw;      // linear sensor values in [0, 2^bit_depth - 1]
+  int bit_depth = 12;  // 8 or 12 (values are not shifted to 16 bit)
   std::uint16_t black_level = 0;
   ExposureStamp exposure;
   std::shared_ptr<const FrameTruth> truth;

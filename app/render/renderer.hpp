@@ -78,7 +78,7 @@ enum class ColourOutput {
 struct RenderTarget {
   ColourOutput output = ColourOutput::Display8;  // which colour image render() writes
   float exposure = 1.f;  // Display8 only: radiance is scaled by this before gamma and clamping
-  ImageRGBA8 colour;      // Display8; left as it is under LinearFloat
+  ImageRGBA8 colour;     // Display8; left as it is under LinearFloat
   ImageRGBAF radiance;   // LinearFloat (the HDR compositor's input); left as it is otherwise
   ImageF depth_mm;       // distance along the optical axis (camera z), mm; 0 where no object
 };

@@ -1,9 +1,10 @@
 #include "drivers/replay/recording.hpp"
 
+#include <toml++/toml.h>
+
 #include <algorithm>
 #include <fstream>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "core/error.hpp"
 #include "drivers/io/png.hpp"
@@ -27,7 +28,9 @@ std::string read_whole_file(const fs::path& path) {
   return text.str();
 }
 
-int node_line(const toml::node& node) { return static_cast<int>(node.source().begin.line); }
+int node_line(const toml::node& node) {
+  return static_cast<int>(node.source().begin.line);
+}
 
 class ManifestReader {
  public:
@@ -43,13 +46,13 @@ class ManifestReader {
     const toml::node& node = require(dotted);
     const auto value = node.value_exact<std::int64_t>();
     if (!value) {
-      throw ParseError(source_, node_line(node), "'" + std::string(dotted) + "' must be an integer");
+      throw ParseError(source_, node_line(node),
+                       "'" + std::string(dotted) + "' must be an integer");
     }
     if (*value < lo || *value > hi) {
-      throw ParseError(source_, node_line(node), "'" + std::string(dotted) + "' = " +
-                                                     std::to_string(*value) + " is outside [" +
-                                                     std::to_string(lo) + ", " +
-                                                     std::to_string(hi) + "]");
+      throw ParseError(source_, node_line(node),
+                       "'" + std::string(dotted) + "' = " + std::to_string(*value) +
+                           " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     }
     return *value;
   }
@@ -159,7 +162,8 @@ template <typename Row>
 void for_each_row(const fs::path& path, const char* header, std::size_t columns, Row&& row) {
   const std::vector<std::string> lines = read_text_lines(path);
   if (lines.empty() || lines.front() != header) {
-    throw ParseError(path.string(), 1, std::string("unexpected header (expected '") + header + "')");
+    throw ParseError(path.string(), 1,
+                     std::string("unexpected header (expected '") + header + "')");
   }
   for (std::size_t i = 1; i < lines.size(); ++i) {
     if (lines[i].empty()) continue;
@@ -240,31 +244,39 @@ std::shared_ptr<const Recording> Recording::open(const fs::path& dir) {
 
   const fs::path fisheye_index = dir / files::kFisheyeIndex;
   std::vector<std::size_t> fisheye_poses;
-  for_each_row(fisheye_index, kFisheyeIndexHeader, 15, [&](const auto& f, const TextLocation& where) {
-    FisheyeEntry e;
-    e.line = where.line;
-    e.sequence = parse_uint64(f[0], where, "sequence");
-    e.timestamp_ns = parse_int64(f[1], where, "timestamp_ns");
-    e.raw = checked_file(dir, f[2], where, "raw");
-    e.bit_depth = static_cast<int>(parse_int_in(f[3], 1, 16, where, "bit_depth"));
-    e.black_level = static_cast<std::uint16_t>(parse_int_in(f[4], 0, 65535, where, "black_level"));
-    e.exposure.exposure.time_s = parse_double(f[5], where, "exposure_time_s");
-    if (e.exposure.exposure.time_s < 0) where.fail("negative exposure_time_s");
-    e.exposure.exposure.gain_db = parse_double(f[6], where, "gain_db");
-    const std::string_view level = f[7];
-    if (level == "low") e.exposure.level = BracketLevel::Low;
-    else if (level == "medium") e.exposure.level = BracketLevel::Medium;
-    else if (level == "high") e.exposure.level = BracketLevel::High;
-    else if (level == "fixed") e.exposure.level = BracketLevel::Fixed;
-    else where.fail("bad bracket_level '" + std::string(level) + "' (expected low, medium, high or fixed)");
-    e.exposure.cycle_position =
-        static_cast<std::uint32_t>(parse_int_in(f[8], 0, 0xffffffffLL, where, "cycle_position"));
-    e.exposure.cycle = parse_uint64(f[9], where, "cycle");
-    bool wants_pose = false;
-    e.truth = parse_truth(dir, f, 10, where, &wants_pose);
-    if (wants_pose) fisheye_poses.push_back(rec->fisheye_.size());
-    rec->fisheye_.push_back(std::move(e));
-  });
+  for_each_row(fisheye_index, kFisheyeIndexHeader, 15,
+               [&](const auto& f, const TextLocation& where) {
+                 FisheyeEntry e;
+                 e.line = where.line;
+                 e.sequence = parse_uint64(f[0], where, "sequence");
+                 e.timestamp_ns = parse_int64(f[1], where, "timestamp_ns");
+                 e.raw = checked_file(dir, f[2], where, "raw");
+                 e.bit_depth = static_cast<int>(parse_int_in(f[3], 1, 16, where, "bit_depth"));
+                 e.black_level =
+                     static_cast<std::uint16_t>(parse_int_in(f[4], 0, 65535, where, "black_level"));
+                 e.exposure.exposure.time_s = parse_double(f[5], where, "exposure_time_s");
+                 if (e.exposure.exposure.time_s < 0) where.fail("negative exposure_time_s");
+                 e.exposure.exposure.gain_db = parse_double(f[6], where, "gain_db");
+                 const std::string_view level = f[7];
+                 if (level == "low")
+                   e.exposure.level = BracketLevel::Low;
+                 else if (level == "medium")
+                   e.exposure.level = BracketLevel::Medium;
+                 else if (level == "high")
+                   e.exposure.level = BracketLevel::High;
+                 else if (level == "fixed")
+                   e.exposure.level = BracketLevel::Fixed;
+                 else
+                   where.fail("bad bracket_level '" + std::string(level) +
+                              "' (expected low, medium, high or fixed)");
+                 e.exposure.cycle_position = static_cast<std::uint32_t>(
+                     parse_int_in(f[8], 0, 0xffffffffLL, where, "cycle_position"));
+                 e.exposure.cycle = parse_uint64(f[9], where, "cycle");
+                 bool wants_pose = false;
+                 e.truth = parse_truth(dir, f, 10, where, &wants_pose);
+                 if (wants_pose) fisheye_poses.push_back(rec->fisheye_.size());
+                 rec->fisheye_.push_back(std::move(e));
+               });
   check_count(fisheye_index, rec->fisheye_, rec->manifest_.fisheye_frames);
   attach_poses(dir, files::kFisheyeTrajectory, rec->fisheye_, fisheye_poses, files::kFisheyeIndex);
   return rec;
@@ -288,7 +300,8 @@ TimestampNs Recording::loop_span_ns() const {
   if (rgbd_.size() >= 2) {
     period = mean_period(rgbd_.front().timestamp_ns, rgbd_.back().timestamp_ns, rgbd_.size());
   } else if (fisheye_.size() >= 2) {
-    period = mean_period(fisheye_.front().timestamp_ns, fisheye_.back().timestamp_ns, fisheye_.size());
+    period =
+        mean_period(fisheye_.front().timestamp_ns, fisheye_.back().timestamp_ns, fisheye_.size());
   }
   return last - start_ns() + std::max<TimestampNs>(period, 1);
 }

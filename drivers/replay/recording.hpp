@@ -76,7 +76,7 @@ struct RecordingManifest {
   std::int64_t version = kRecordingFormatVersion;
   std::string created_utc;  // informational
   std::string created_by;
-  std::string source;       // the --source spec it was recorded from
+  std::string source;  // the --source spec it was recorded from
   std::int64_t rgbd_frames = 0;
   std::int64_t fisheye_frames = 0;
 };

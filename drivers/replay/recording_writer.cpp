@@ -1,13 +1,13 @@
 #include "drivers/replay/recording_writer.hpp"
 
 #include <fmt/format.h>
+#include <toml++/toml.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <ctime>
 #include <sstream>
 #include <stdexcept>
-#include <toml++/toml.h>
 
 #include "drivers/io/png.hpp"
 #include "drivers/replay/calibration_file.hpp"
@@ -24,10 +24,17 @@ namespace fs = std::filesystem;
 constexpr std::size_t kLightsRemembered = 4;  // one or two per stream in practice
 
 // Every name a recording may contain at its top level.
-constexpr const char* kRecordingEntries[] = {
-    files::kManifest, files::kCalibration, files::kRgbdIndex, files::kFisheyeIndex,
-    files::kRgbdTrajectory, files::kFisheyeTrajectory, "rgb", "depth", "fisheye", "truth",
-    "manifest.toml.tmp"};
+constexpr const char* kRecordingEntries[] = {files::kManifest,
+                                             files::kCalibration,
+                                             files::kRgbdIndex,
+                                             files::kFisheyeIndex,
+                                             files::kRgbdTrajectory,
+                                             files::kFisheyeTrajectory,
+                                             "rgb",
+                                             "depth",
+                                             "fisheye",
+                                             "truth",
+                                             "manifest.toml.tmp"};
 
 std::string frame_name(std::int64_t index, const char* extension) {
   return fmt::format("{:06d}.{}", index, extension);
@@ -178,11 +185,11 @@ void RecordingWriter::append(const RgbdFrame& frame) {
   const std::string name = frame_name(i, "png");
   write_png(dir_ / "rgb" / name, frame.colour);
   write_png(dir_ / "depth" / name, frame.depth);
-  const std::string truth = write_truth(rgbd_, files::kRgbdTrajectory, "truth/depth",
-                                        "truth/mask", name, frame.truth, frame.timestamp_ns);
+  const std::string truth = write_truth(rgbd_, files::kRgbdTrajectory, "truth/depth", "truth/mask",
+                                        name, frame.truth, frame.timestamp_ns);
   write_index_line(rgbd_,
-                   fmt::format("{},{},rgb/{},depth/{},{}", frame.sequence, frame.timestamp_ns,
-                               name, name, truth),
+                   fmt::format("{},{},rgb/{},depth/{},{}", frame.sequence, frame.timestamp_ns, name,
+                               name, truth),
                    files::kRgbdIndex);
   if (i == 0) rgbd_.first_ns = frame.timestamp_ns;
   rgbd_.last_ns = frame.timestamp_ns;
@@ -196,8 +203,8 @@ void RecordingWriter::append(const FisheyeFrame& frame) {
   const std::string name = frame_name(i, "png");
   write_png(dir_ / "fisheye" / name, frame.raw);
   const std::string truth =
-      write_truth(fisheye_, files::kFisheyeTrajectory, "truth/fisheye_depth",
-                  "truth/fisheye_mask", name, frame.truth, frame.timestamp_ns);
+      write_truth(fisheye_, files::kFisheyeTrajectory, "truth/fisheye_depth", "truth/fisheye_mask",
+                  name, frame.truth, frame.timestamp_ns);
   const ExposureStamp& e = frame.exposure;
   write_index_line(fisheye_,
                    fmt::format("{},{},fisheye/{},{},{},{},{},{},{},{},{}", frame.sequence,

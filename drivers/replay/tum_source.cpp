@@ -61,8 +61,7 @@ std::vector<TumImageLine> read_tum_image_list(const fs::path& path) {
     const auto fields = split_whitespace(lines[i]);
     if (fields.empty() || fields.front().front() == '#') continue;
     if (fields.size() != 2) {
-      where.fail("expected 'timestamp filename', got " + std::to_string(fields.size()) +
-                 " fields");
+      where.fail("expected 'timestamp filename', got " + std::to_string(fields.size()) + " fields");
     }
     TumImageLine entry;
     entry.line = where.line;
@@ -85,7 +84,8 @@ std::vector<std::pair<std::size_t, std::size_t>> associate_by_timestamp(
   std::vector<TimestampNs> b_sorted;
   for (std::size_t j : b_order) b_sorted.push_back(b[j]);
   // (|difference|, a time, b time, a index, b index), sorted as associate.py sorts its tuples.
-  std::vector<std::tuple<TimestampNs, TimestampNs, TimestampNs, std::size_t, std::size_t>> candidates;
+  std::vector<std::tuple<TimestampNs, TimestampNs, TimestampNs, std::size_t, std::size_t>>
+      candidates;
   for (std::size_t i = 0; i < a.size(); ++i) {
     auto it = std::upper_bound(b_sorted.begin(), b_sorted.end(), a[i] - max_difference_ns);
     for (; it != b_sorted.end() && *it < a[i] + max_difference_ns; ++it) {
@@ -134,8 +134,8 @@ TumSequence open_tum_sequence(const fs::path& dir, const fs::path& calibration_f
     if (truth) f.rig_pose = truth->at(f.timestamp_ns);
     seq.frames.push_back(std::move(f));
   }
-  seq.calibration = calibration_file.empty() ? tum_default_calibration()
-                                              : load_rig_calibration(calibration_file);
+  seq.calibration =
+      calibration_file.empty() ? tum_default_calibration() : load_rig_calibration(calibration_file);
   return seq;
 }
 

@@ -7,7 +7,8 @@
 namespace probeless::eval {
 namespace fs = std::filesystem;
 
-EvalFrame matting_frame(const ImageRGB8& colour, const ImageGray8& trimap, const ImageGray8& alpha) {
+EvalFrame matting_frame(const ImageRGB8& colour, const ImageGray8& trimap,
+                        const ImageGray8& alpha) {
   const int w = colour.width(), h = colour.height();
   EvalFrame f{colour, DepthImage(w, h), ImageF(w, h, kMattingVirtualMm), ImageF(w, h),
               ImageGray8(w, h)};

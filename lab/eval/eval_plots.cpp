@@ -8,8 +8,8 @@
 #include <cmath>
 #include <map>
 
-#include "lab/eval/occlusion_eval.hpp"
 #include "drivers/io/png.hpp"
+#include "lab/eval/occlusion_eval.hpp"
 
 namespace probeless::eval {
 namespace fs = std::filesystem;

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "kernels/runtime/compute_context.hpp"
 #include "lab/eval/eval_case.hpp"
 #include "lab/eval/method_set.hpp"
-#include "kernels/runtime/compute_context.hpp"
 
 namespace probeless::eval {
 

@@ -7,7 +7,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "lab/eval/light_eval.hpp"
 #include "app/pipeline/light_capture.hpp"
 #include "app/pipeline/scene_objects.hpp"
 #include "app/render/renderer.hpp"
@@ -17,6 +16,7 @@
 #include "drivers/sim/sim_rig.hpp"
 #include "drivers/sim/sim_world.hpp"
 #include "kernels/envmap/envmap_types.hpp"
+#include "lab/eval/light_eval.hpp"
 
 namespace probeless::eval {
 namespace {

@@ -15,7 +15,7 @@ namespace probeless::occlusion {
 // All on the device, all the same width x height (the RGB-D camera's colour frame, with the
 // real depth registered to it and the virtual depth rendered from the same camera).
 struct OcclusionInputs {
-  const DeviceImage<std::uint8_t, 3>* colour = nullptr;           // real RGB8 frame (the guide)
+  const DeviceImage<std::uint8_t, 3>* colour = nullptr;          // real RGB8 frame (the guide)
   const DeviceImage<std::uint16_t, 1>* real_depth_mm = nullptr;  // 0 = unknown
   const DeviceImage<float, 1>* virtual_depth_mm = nullptr;       // 0 = no virtual object there
 

@@ -202,8 +202,8 @@ LocalCosts local_costs_reference(const ImageRGB8& colour, const CategoryImage& c
             cvf_cost(c, 0, t.global, false, real_depth_mm.at(x, y), virtual_depth_mm.at(x, y));
         continue;
       }
-      const int bin =
-          colour_bin(colour.at(x, y, 0), colour.at(x, y, 1), colour.at(x, y, 2), p.bins_per_channel);
+      const int bin = colour_bin(colour.at(x, y, 0), colour.at(x, y, 1), colour.at(x, y, 2),
+                                 p.bins_per_channel);
       const TileBlend tb = tile_blend(t.likelihoods, x, y);
       float p_in = 0, p_be = 0;
       for (int k = 0; k < 4; ++k) {

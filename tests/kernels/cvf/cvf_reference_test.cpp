@@ -246,7 +246,8 @@ DiscScene disc_scene(int w, int h, std::uint64_t seed) {
       const std::uint8_t base[3] = {std::uint8_t(disc ? 200 : 30), 40,
                                     std::uint8_t(disc ? 30 : 200)};
       for (int c = 0; c < 3; ++c)
-        s.colour.at(x, y, c) = static_cast<std::uint8_t>(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
+        s.colour.at(x, y, c) =
+            static_cast<std::uint8_t>(std::clamp(base[c] + n(rng), 0.0F, 255.0F));
       s.depth.at(x, y) = std::fabs(d - R) < 4.0F ? 0 : disc ? 600 : 2000;
       s.truth.at(x, y) = disc ? 0.0F : 1.0F;
     }

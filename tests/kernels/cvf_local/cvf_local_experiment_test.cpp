@@ -13,14 +13,14 @@
 #include <map>
 #include <string>
 
-#include "lab/eval/matte_metrics.hpp"
-#include "lab/eval/occlusion_eval.hpp"
 #include "drivers/io/png.hpp"
 #include "kernels/occlusion/baselines/bilateral_matte_reference.hpp"
 #include "kernels/occlusion/baselines/guided_matte_reference.hpp"
 #include "kernels/occlusion/common/categorise_reference.hpp"
 #include "kernels/occlusion/cvf/cvf_local_reference.hpp"
 #include "kernels/occlusion/cvf/cvf_reference.hpp"
+#include "lab/eval/matte_metrics.hpp"
+#include "lab/eval/occlusion_eval.hpp"
 #include "support/test_data.hpp"
 
 namespace probeless::occlusion {

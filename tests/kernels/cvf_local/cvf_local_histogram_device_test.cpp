@@ -9,9 +9,9 @@
 #include <cstdio>
 #include <random>
 
-#include "lab/eval/method_set.hpp"
 #include "kernels/occlusion/common/categorise_reference.hpp"
 #include "kernels/occlusion/cvf/cvf_local_histogram.hpp"
+#include "lab/eval/method_set.hpp"
 #include "support/cl_context.hpp"
 
 namespace probeless::occlusion {

@@ -192,8 +192,8 @@ INSTANTIATE_TEST_SUITE_P(
         // Sizes are bounded (core/read_limits.hpp): what is sized from them cannot be absurd.
         BadCase{"HugeWidth", "width = 640\n", "width = 1048576\n", 3,
                 "width: expected a positive integer up to 32768"},
-        BadCase{"TooManyPixels", "width = 1024\nheight = 1024", "width = 32768\nheight = 32768",
-                20, "32768x32768 is over the limit of 67108864 pixels"},
+        BadCase{"TooManyPixels", "width = 1024\nheight = 1024", "width = 32768\nheight = 32768", 20,
+                "32768x32768 is over the limit of 67108864 pixels"},
         BadCase{"BadModel", "\"kannala_brandt\"", "\"mei\"", 18, "model: expected"},
         BadCase{"ShortK", "k = [0.0312, -0.0147, 0.0052, -0.0011]", "k = [0.0312]", 25,
                 "k: expected an array of 4"},

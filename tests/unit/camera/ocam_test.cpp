@@ -187,7 +187,7 @@ TEST(OCam, ParseErrorsNameTheLine) {
   // Sizes within core/read_limits.hpp (both used to pass up to 65536, 2^32 pixels).
   EXPECT_EQ(line_of(edit_line(good, 19, "480 65536")), 19);    // a side over 32768
   EXPECT_EQ(line_of(edit_line(good, 19, "32768 32768")), 19);  // over 2^26 pixels
-  EXPECT_EQ(line_of(edit_line(good, 7, std::nullopt)), 10);        // invpol missing: centre is read
+  EXPECT_EQ(line_of(edit_line(good, 7, std::nullopt)), 10);    // invpol missing: centre is read
   EXPECT_EQ(line_of(""), 1);
   EXPECT_EQ(line_of("# only a comment\n"), 2);
   // Windows line endings and a leading '+' are accepted.

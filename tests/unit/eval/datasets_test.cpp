@@ -4,12 +4,12 @@
 
 #include <fstream>
 
+#include "drivers/io/pfm.hpp"
+#include "drivers/io/png.hpp"
 #include "lab/eval/alphamatting_dataset.hpp"
 #include "lab/eval/frames_dataset.hpp"
 #include "lab/eval/middlebury_dataset.hpp"
 #include "lab/eval/occlusion_eval.hpp"
-#include "drivers/io/pfm.hpp"
-#include "drivers/io/png.hpp"
 #include "support/test_data.hpp"
 
 namespace probeless::eval {

@@ -1,3 +1,5 @@
+#include "drivers/io/png.hpp"
+
 #include <gtest/gtest.h>
 #include <png.h>
 
@@ -7,7 +9,6 @@
 #include <fstream>
 #include <random>
 
-#include "drivers/io/png.hpp"
 #include "support/memory_cap.hpp"
 #include "support/test_data.hpp"
 
@@ -20,7 +21,8 @@ template <typename ImageT>
 ImageT random_image(int w, int h, unsigned seed) {
   ImageT image(w, h);
   std::mt19937 rng(seed);
-  std::uniform_int_distribution<unsigned> dist(0, (1u << (8 * sizeof(typename ImageT::value_type))) - 1);
+  std::uniform_int_distribution<unsigned> dist(
+      0, (1u << (8 * sizeof(typename ImageT::value_type))) - 1);
   for (auto& v : image.elements()) v = static_cast<typename ImageT::value_type>(dist(rng));
   return image;
 }
@@ -126,7 +128,8 @@ TEST(Png, EightBitReadersConvert) {
   const ImageGray8 luma = read_png_gray8(dir / "rgb.png");
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 6; ++x) {
-      const double l = 0.2126 * rgb.at(x, y, 0) + 0.7152 * rgb.at(x, y, 1) + 0.0722 * rgb.at(x, y, 2);
+      const double l =
+          0.2126 * rgb.at(x, y, 0) + 0.7152 * rgb.at(x, y, 1) + 0.0722 * rgb.at(x, y, 2);
       EXPECT_NEAR(luma.at(x, y), l, 1.01);
     }
 }
@@ -242,7 +245,8 @@ TEST(Png, RandomBytesAndCorruptionNeverCrash) {
   int errors = 0;
   for (int i = 0; i < 300; ++i) {
     std::vector<char> bad = good;
-    for (int k = 0; k < 3; ++k) bad[8 + rng() % (bad.size() - 8)] ^= static_cast<char>(1 + rng() % 255);
+    for (int k = 0; k < 3; ++k)
+      bad[8 + rng() % (bad.size() - 8)] ^= static_cast<char>(1 + rng() % 255);
     write_bytes(p, bad.data(), bad.size());
     try {
       (void)read_png_rgb8(p);

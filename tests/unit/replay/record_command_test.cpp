@@ -126,8 +126,8 @@ TEST(RecordCommand, RecordsATumSequenceWithoutFisheye) {
 TEST(RecordCommand, RecordsTheSim) {
   REQUIRE_BINARY();
   const fs::path out = testing::scratch_dir() / "from_sim";
-  const RunResult r = run_probeless("record --source 'sim:realtime=0,fisheye_size=64' --frames 5 '" +
-                                    out.string() + "'");
+  const RunResult r = run_probeless(
+      "record --source 'sim:realtime=0,fisheye_size=64' --frames 5 '" + out.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("5 RGB-D frames"), std::string::npos) << r.output;
 

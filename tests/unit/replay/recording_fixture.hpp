@@ -62,7 +62,8 @@ inline TestFrames make_test_frames(int n, bool truth = true, unsigned seed = 7) 
       for (auto& v : t->occluder_mask.elements()) v = v ? 255 : 0;
       Pose p;
       p.translation = {0.1 * i, -0.2 / (i + 3), 1.0 / 3.0};
-      p.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * i + 0.01, Eigen::Vector3d(1, 2, 3).normalized()));
+      p.rotation = Eigen::Quaterniond(
+          Eigen::AngleAxisd(0.1 * i + 0.01, Eigen::Vector3d(1, 2, 3).normalized()));
       t->rig_pose = p;
       t->light = i < 3 ? light_a : light_b;
       f.truth = t;

@@ -1,3 +1,5 @@
+#include "drivers/replay/recording.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -5,7 +7,6 @@
 
 #include "core/error.hpp"
 #include "drivers/io/png.hpp"
-#include "drivers/replay/recording.hpp"
 #include "drivers/replay/replay_source.hpp"
 #include "recording_fixture.hpp"
 #include "support/test_data.hpp"
@@ -128,14 +129,16 @@ TEST(Recording, LoopKeepsSequenceAndTimeIncreasing) {
     ASSERT_EQ(rig.rgbd->read(f, 10ms), ReadResult::Frame);
     got.push_back(f);
   }
-  for (int i = 0; i < 3; ++i) expect_same(got[static_cast<std::size_t>(i)], frames.rgbd[static_cast<std::size_t>(i)]);
+  for (int i = 0; i < 3; ++i)
+    expect_same(got[static_cast<std::size_t>(i)], frames.rgbd[static_cast<std::size_t>(i)]);
   for (std::size_t i = 1; i < got.size(); ++i) {
     EXPECT_EQ(got[i].sequence, got[i - 1].sequence + 1);
     EXPECT_GT(got[i].timestamp_ns, got[i - 1].timestamp_ns);
   }
   EXPECT_EQ(got[3].colour, frames.rgbd[0].colour);
   // Span: first frame of either stream to one RGB-D period after the last of either.
-  const TimestampNs last = std::max(frames.fisheye.back().timestamp_ns, frames.rgbd.back().timestamp_ns);
+  const TimestampNs last =
+      std::max(frames.fisheye.back().timestamp_ns, frames.rgbd.back().timestamp_ns);
   const TimestampNs span = last - frames.rgbd.front().timestamp_ns + 20'000'000;
   EXPECT_EQ(got[3].timestamp_ns, frames.rgbd[0].timestamp_ns + span);
 }
@@ -148,7 +151,7 @@ TEST(Recording, RealtimePacingNeverBlocksBeyondTimeout) {
   options.realtime = true;
   Rig rig = open_replay_rig(dir, options);
   RgbdFrame f;
-  const auto start = std::chrono::steady_clock::now();  // the clock starts in the first read
+  const auto start = std::chrono::steady_clock::now();     // the clock starts in the first read
   ASSERT_EQ(rig.rgbd->read(f, 100ms), ReadResult::Frame);  // the first is due at once
   EXPECT_EQ(f.sequence, frames.rgbd[0].sequence);
   // The next is due 20 ms after the start: a 1 ms timeout gives "no frame yet" soon.
@@ -313,7 +316,8 @@ TEST_F(BrokenRecording, CorruptLightFile) {
   Rig rig = open_replay_rig(dir, fast());
   RgbdFrame f;
   EXPECT_EQ(rig.rgbd->read(f, 10ms), ReadResult::Error);
-  EXPECT_NE(rig.rgbd->last_error().find(light.string()), std::string::npos) << rig.rgbd->last_error();
+  EXPECT_NE(rig.rgbd->last_error().find(light.string()), std::string::npos)
+      << rig.rgbd->last_error();
 }
 
 }  // namespace
