@@ -1,6 +1,7 @@
 #pragma once
 // Per-stage timings over a sliding window, and frame counters: what /status, the logs and
 // `probeless bench pipeline` report. Thread-safe; recording is a mutex and a ring write.
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <mutex>
@@ -21,6 +22,11 @@ TimingSummary summarize(std::vector<double> samples_ms);
 // CPU time of the whole process (all threads) in ms: benchmarks divide it by frames, a figure
 // that moves less than wall-clock time when other work shares the cores.
 double process_cpu_ms();
+
+// Milliseconds of the steady clock since `t0`: the unit every stage time is recorded in.
+inline double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
 class StageStats {
  public:

@@ -12,6 +12,7 @@
 #include "core/calibration.hpp"
 #include "core/exposure.hpp"
 #include "core/frame.hpp"
+#include "core/room_box.hpp"
 
 namespace probeless {
 
@@ -41,16 +42,11 @@ class FisheyeSource : public Source<FisheyeFrame> {
   virtual void set_next_exposure(const ExposureStamp& exposure) = 0;
 };
 
-// An axis-aligned box in the world frame (metres): a room's floor, walls and ceiling.
-struct RoomBounds {
-  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
-};
-
 // What a rig knows of the scene it looks at, in its world frame. The synthetic rig knows
 // both; a camera or a recording knows neither, and the configuration says instead.
 struct RigScene {
   std::optional<Eigen::Vector3d> object_anchor;  // where virtual objects stand by default
-  std::optional<RoomBounds> room;  // the room the fisheye sees, for light-capture parallax
+  std::optional<RoomBox> room;  // the room the fisheye sees, for light-capture parallax
 };
 
 // A rig as a source set: what `--source sim` or `--source replay:DIR` opens.

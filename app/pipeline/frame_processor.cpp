@@ -21,9 +21,7 @@ template <typename Stage, typename... Args>
 decltype(auto) timed(StageStats& stats, Stage& stage, Args&&... args) {
   const auto t0 = std::chrono::steady_clock::now();
   decltype(auto) result = stage.process(std::forward<Args>(args)...);
-  stats.record(
-      Stage::name,
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  stats.record(Stage::name, ms_since(t0));
   return result;
 }
 
@@ -54,9 +52,7 @@ CompositeFrame FrameProcessor::process(const RgbdFrame& frame, StageStats& stats
   const DeviceImageF& matte = timed(stats, occlusion_, device);
   const DeviceImageRGB8& composite = timed(stats, composite_, device, matte);
   HostImages host = timed(stats, download_, composite, matte);
-  stats.record("frame", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
-                                                                  frame_start)
-                            .count());
+  stats.record("frame", ms_since(frame_start));
 
   CompositeFrame out;
   out.sequence = frame.sequence;

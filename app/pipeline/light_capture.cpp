@@ -62,8 +62,7 @@ const KannalaBrandtCamera& kannala_brandt(const RigCalibration& calibration) {
 // [light] room (docs/configuration.md): the room box parallax takes, if any.
 std::optional<envmap::RoomBox> room_of(const ServiceConfig& c, const RigScene& scene) {
   if (c.light_room == "box") return envmap::RoomBox{c.light_room_min, c.light_room_max};
-  std::optional<envmap::RoomBox> rig_room;
-  if (scene.room) rig_room = envmap::RoomBox{scene.room->lo, scene.room->hi};
+  const std::optional<RoomBox>& rig_room = scene.room;
   // The default: the rig's room when it knows one, as the sim does (so `probeless run` lights
   // the objects from the keyframe reprojected to them); a real room's is not known without a
   // config.
@@ -212,10 +211,7 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     const auto& keyframe = estimator_->light->process(frame, pose.value_or(Pose::identity()));
-    if (stats)
-      stats->record(
-          "light",
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    if (stats) stats->record("light", ms_since(t0));
     std::lock_guard lock(mutex_);
     ++processed_;
     if (!pose) ++without_pose_;
@@ -238,10 +234,7 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
   }
   try {
     const auto p0 = std::chrono::steady_clock::now();
-    if (publish(frame) && stats)
-      stats->record(
-          "light_publish",
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - p0).count());
+    if (publish(frame) && stats) stats->record("light_publish", ms_since(p0));
   } catch (const std::exception& e) {
     fail(e.what());
     return false;

@@ -18,10 +18,6 @@ namespace {
 
 using namespace std::chrono_literals;
 
-double ms_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 Pipeline::Pipeline(ServiceConfig config, Rig rig, PipelineOptions options)

@@ -159,7 +159,7 @@ Rig make_sim_rig(const SimOptions& options) {
   rig.calibration.T_rig_fisheye = fisheye_in_rig();
   rig.calibration.depth_baseline_m = KinectNoiseParams{}.baseline_m;
   const auto [room_lo, room_hi] = room_bounds();
-  rig.scene = {object_anchor(), RoomBounds{room_lo, room_hi}};
+  rig.scene = {object_anchor(), RoomBox{room_lo, room_hi}};
 
   const RigGeometry geometry{rig.calibration.T_rig_rgb,
                              rig.calibration.T_rig_fisheye,

@@ -18,6 +18,7 @@
 #include "core/camera/kannala_brandt.hpp"
 #include "core/cubemap.hpp"
 #include "core/image.hpp"
+#include "core/room_box.hpp"
 
 namespace probeless::envmap {
 
@@ -56,13 +57,9 @@ struct UpdateParams {
   float change_sigma = 6.0F;
 };
 
-// A room proxy for parallax (docs/light-capture.md "Parallax"): an axis-aligned box in world
-// coordinates (metres) standing for the room's walls, floor and ceiling, as the box-projected
-// reflection probes of game engines use. Keyframe texels then name the point where the ray
-// from the keyframe's position leaves the box, not only a direction.
-struct RoomBox {
-  Eigen::Vector3d lo = Eigen::Vector3d::Zero(), hi = Eigen::Vector3d::Zero();
-};
+// The room proxy (core/room_box.hpp): keyframe texels then name the point where the ray from
+// the keyframe's position leaves the box, not only a direction.
+using ::probeless::RoomBox;
 // Throws std::invalid_argument unless lo < hi in every axis (all finite).
 void validate(const RoomBox& room);
 

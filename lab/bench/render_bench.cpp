@@ -7,6 +7,8 @@
 #include <numbers>
 #include <vector>
 
+#include "base/stage_stats.hpp"
+
 namespace probeless::render {
 namespace {
 
@@ -51,10 +53,6 @@ void summarise(std::vector<double>& ms, std::vector<double>& cpu, RenderBenchRes
   result.min_ms = ms.front();
 }
 
-double since_ms(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
 
 RenderBenchResult bench_render(Renderer& renderer, const PinholeIntrinsics& intrinsics, int frames,
@@ -93,7 +91,7 @@ RenderBenchResult bench_render(Renderer& renderer, const PinholeIntrinsics& intr
     const double c0 = cpu_ms();
     const auto t0 = std::chrono::steady_clock::now();
     renderer.render(camera, objects, out);
-    const double dt = since_ms(t0);
+    const double dt = ms_since(t0);
     if (i == 0) {
       result.first_ms = dt;
     } else {
@@ -117,7 +115,7 @@ RenderBenchResult bench_prefilter(Renderer& renderer, int face_size, int updates
     const auto t0 = std::chrono::steady_clock::now();
     renderer.prepare(envs[static_cast<std::size_t>(i)]);
     renderer.finish();
-    const double dt = since_ms(t0);
+    const double dt = ms_since(t0);
     if (i == 0) {
       result.first_ms = dt;
     } else {

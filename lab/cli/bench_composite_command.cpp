@@ -32,10 +32,6 @@ struct BenchOptions {
   bool direct2 = false;
 };
 
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
 // A frame with the structure of a real one: a noisy wall at 2 m with holes, a box in front
 // of part of it, and a virtual disc at 1.5 m in the middle. For the HDR compositor the disc
 // also casts a shadow: an ellipse below it on a receiver 5 cm in front of the wall, which the

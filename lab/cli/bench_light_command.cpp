@@ -37,7 +37,7 @@ void run(const Options& o) {
   light::LightEstimatorConfig config;
   config.keyframes.face_size = o.face_size;
   if (o.room) {  // as the service runs the sim with room = "sim": SH at the object
-    config.room = envmap::RoomBox{rig.scene.room->lo, rig.scene.room->hi};
+    config.room = rig.scene.room;
     config.sh_position = sim::light_probe_position();
   }
   light::LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, config);

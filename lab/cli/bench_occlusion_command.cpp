@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "base/stage_stats.hpp"
 #include "kernels/occlusion/cvf/cvf_matte.hpp"
 #include "kernels/occlusion/cvf/cvf_reference.hpp"
 #include "lab/cli/lab_commands.hpp"
@@ -142,8 +143,7 @@ void run(const Options& o) {
     const auto t0 = Clock::now();
     cvf.process({&colour, &depth, &virt}, alpha);
     q.finish();
-    if (i >= o.warmup)
-      device_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    if (i >= o.warmup) device_ms.push_back(ms_since(t0));
   }
   const double device_cpu_ms = (process_cpu_ms() - cpu0) / std::max(1, o.frames);
   const auto device_alpha = alpha.download(q);
@@ -174,8 +174,7 @@ void run(const Options& o) {
     const auto t0 = Clock::now();
     ref_alpha = eval::cvf_opencv_reference(frame.colour, frame.real_depth_mm,
                                            frame.virtual_depth_mm, params);
-    if (i >= 2)
-      ref_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    if (i >= 2) ref_ms.push_back(ms_since(t0));
   }
   const double ref_cpu_ms = (process_cpu_ms() - ref_cpu0) / std::max(1, o.reference_frames);
   occlusion::CvfParams exact = params;

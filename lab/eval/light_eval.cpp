@@ -213,7 +213,7 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
 
   ComputeContext ctx;
   LightEstimatorConfig config = o.estimator;
-  if (o.room_box) config.room = envmap::RoomBox{rig.scene.room->lo, rig.scene.room->hi};
+  if (o.room_box) config.room = rig.scene.room;
   LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, config);
   BracketSequencer sequencer;
   Trajectory trajectory;  // from the RGB-D stream's truth, as tracking would deliver it
