@@ -1,9 +1,18 @@
 #include "kernels/tracking/dense_tracker.hpp"
 
+#include <Eigen/Cholesky>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <optional>
 #include <stdexcept>
 
-// SCAFFOLD: the interface the service and the lab build against while the tracker is written;
-// it reports the first pose for every frame. Replaced by the Kerl et al. tracker.
+#include "kernels/tracking/frame_pyramid.hpp"
+#include "kernels/tracking/keyframe.hpp"
+#include "kernels/tracking/normal_equations.hpp"
+#include "kernels/tracking/se3.hpp"
+#include "kernels/tracking/tracking_device.hpp"
+
 namespace probeless::tracking {
 
 const char* to_string(TrackingState state) {
@@ -20,40 +29,265 @@ const char* to_string(TrackingState state) {
   return "?";
 }
 
+namespace {
+
+// Starting t-scales before a level has residuals of its own: a few grey levels (8-bit sensor
+// noise and interpolation) and 1 cm at 1 m (Kinect v1, Khoshelham & Elberink 2012).
+constexpr double kInitialSigmaPhoto = 8.0;
+constexpr double kInitialSigmaGeo = 0.01;
+// Floors that keep the weights finite on a perfect (synthetic) match.
+constexpr double kMinSigmaPhoto = 0.5;
+constexpr double kMinSigmaGeo = 1e-4;
+// Gains outside this range are not an exposure change but a failed fit.
+constexpr double kMinGain = 0.5, kMaxGain = 2.0;
+
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+double rotation_deg(const Pose& p) {
+  return Eigen::AngleAxisd(p.rotation).angle() * 180.0 / M_PI;
+}
+
+struct Alignment {
+  Pose T_current_keyframe;
+  bool accepted = false;
+  double visible_fraction = 0, inlier_fraction = 0, residual_rms = 0;
+  double gain = 1, bias = 0;
+  int iterations = 0;
+};
+
+}  // namespace
+
 struct DenseTracker::Impl {
   ComputeContext* ctx = nullptr;
   PinholeIntrinsics camera;
   DenseTrackerParams params;
+  std::optional<TrackingDevice> device;
   Pose origin;
   TrackingState state = TrackingState::Off;
+
+  FramePyramid current;            // host pyramid (CPU path; device path: only for new keyframes)
+  std::deque<Keyframe> keyframes;  // back() is the reference
+  Pose T_world_last;
+  Pose last_motion;  // T_prev_cur of the last tracked pair
+  double gain = 1, bias = 0;
+
+  void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm) {
+    if (device)
+      device->build_pyramid(colour, depth_mm, camera, params);
+    else
+      build_pyramid_reference(colour, depth_mm, camera, params, current);
+  }
+
+  void make_current_keyframe(const Pose& T_world_camera) {
+    if (device) device->download_pyramid(current);
+    keyframes.push_back(make_keyframe(current, T_world_camera, params.max_points_per_level));
+    if (device) device->upload_points(keyframes.back());
+    while (int(keyframes.size()) > params.max_keyframes) keyframes.pop_front();
+    gain = 1;
+    bias = 0;
+  }
+
+  NormalSums sums(Keyframe& kf, int level, const IterationParams& p) {
+    if (device) return device->accumulate(kf, level, p);
+    return accumulate_reference(kf.points[std::size_t(level)], current.levels[std::size_t(level)],
+                                p);
+  }
+
+  Alignment align(Keyframe& kf, const Pose& T_init, double gain0, double bias0);
+  bool accept(const Alignment& a) const {
+    return a.visible_fraction >= params.min_visible_fraction &&
+           a.inlier_fraction >= params.min_inlier_fraction;
+  }
 };
+
+// Coarse to fine inverse-compositional Gauss-Newton: the keyframe's Jacobians are fixed, the
+// weights, t-scales and brightness model are re-estimated from each iteration's residuals.
+Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gain0, double bias0) {
+  Alignment out;
+  out.gain = gain0;
+  out.bias = bias0;
+  Pose T = T_init;
+  for (int level = params.levels - 1; level >= 0; --level) {
+    const auto& points = kf.points[std::size_t(level)];
+    const LevelCamera& c = kf.cameras[std::size_t(level)];
+    double var_photo = kInitialSigmaPhoto * kInitialSigmaPhoto;
+    double var_geo = kInitialSigmaGeo * kInitialSigmaGeo;
+    NormalSums s{};
+    for (int it = 0; it < params.max_iterations; ++it) {
+      IterationParams p{};
+      const Eigen::Matrix3d R = T.rotation.toRotationMatrix();
+      for (int i = 0; i < 9; ++i) p.r[i] = float(R(i / 3, i % 3));
+      for (int i = 0; i < 3; ++i) p.t[i] = float(T.translation[i]);
+      p.fx = c.fx, p.fy = c.fy, p.cx = c.cx, p.cy = c.cy;
+      p.inv_gain = float(1.0 / out.gain);
+      p.bias = float(out.bias);
+      p.inv_var_photo = float(1.0 / var_photo);
+      p.inv_var_geo = float(1.0 / var_geo);
+      p.nu = params.student_nu;
+      p.photo_inlier = params.photometric_inlier;
+      p.geo_inlier = params.geometric_inlier_m;
+      p.min_depth = params.min_depth_m * 0.5f;
+      s = sums(kf, level, p);
+      ++out.iterations;
+      if (s[kPhotoCount] + s[kGeoCount] < 12) break;  // too few residuals for 6 unknowns
+
+      // Kerl et al. (eq. 10): sigma^2 = 1/n sum r^2 (nu + 1) / (nu + r^2 / sigma^2), one
+      // fixed-point step per iteration.
+      var_photo = std::max(s[kPhotoWeightedSq] / std::max(1.0, s[kPhotoCount]),
+                           kMinSigmaPhoto * kMinSigmaPhoto);
+      if (s[kGeoCount] > 0)
+        var_geo = std::max(s[kGeoWeightedSq] / s[kGeoCount], kMinSigmaGeo * kMinSigmaGeo);
+      // Brightness: match the weighted mean and spread of the keyframe's intensities to the
+      // current frame's over the same points (robust to misalignment, unlike a regression).
+      const double sw = s[kAffineW];
+      if (sw > 0) {
+        const double mx = s[kAffineX] / sw, my = s[kAffineY] / sw;
+        const double vx = s[kAffineXX] / sw - mx * mx, vy = s[kAffineYY] / sw - my * my;
+        if (vx > 1.0 && vy > 0.0) {
+          out.gain = std::clamp(std::sqrt(vy / vx), kMinGain, kMaxGain);
+          out.bias = my - out.gain * mx;
+        }
+      }
+
+      Eigen::Matrix<double, 6, 6> H;
+      Vector6d g;
+      for (int a = 0, k = kH; a < 6; ++a) {
+        for (int b = a; b < 6; ++b, ++k) H(a, b) = H(b, a) = s[std::size_t(k)];
+        g[a] = s[std::size_t(kG + a)];
+      }
+      H.diagonal() *= 1.0 + 1e-6;  // keeps a rank-deficient view (a plain wall) solvable
+      const Vector6d xi = H.ldlt().solve(g);
+      if (!xi.allFinite()) break;
+      T = T * se3_exp(-xi);
+      if (xi.norm() < params.min_update) break;
+    }
+    if (level == 0) {
+      const double n = double(points.size());
+      out.visible_fraction = n > 0 ? s[kVisible] / n : 0.0;
+      out.inlier_fraction = s[kVisible] > 0 ? s[kInliers] / s[kVisible] : 0.0;
+      out.residual_rms = s[kPhotoCount] > 0 ? std::sqrt(s[kPhotoSq] / s[kPhotoCount]) : 0.0;
+    }
+  }
+  out.T_current_keyframe = T;
+  out.accepted = accept(out);
+  return out;
+}
 
 DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeIntrinsics& camera,
                            DenseTrackerParams params)
     : impl_(std::make_unique<Impl>()) {
+  if (params.finest_level < 0 || params.finest_level > 1)
+    throw std::invalid_argument("tracking: finest_level must be 0 (full) or 1 (half resolution)");
+  if (params.levels < 1 || (camera.width >> (params.finest_level + params.levels - 1)) < 8 ||
+      (camera.height >> (params.finest_level + params.levels - 1)) < 8)
+    throw std::invalid_argument("tracking: the pyramid's coarsest level must be >= 8x8 pixels");
+  if (params.max_keyframes < 1 || params.max_iterations < 1 || params.max_points_per_level < 16)
+    throw std::invalid_argument("tracking: max_keyframes, max_iterations and points must be >0");
   impl_->ctx = ctx;
   impl_->camera = camera;
   impl_->params = params;
+  if (ctx) impl_->device.emplace(*ctx);
 }
 
 DenseTracker::~DenseTracker() = default;
 
 TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth_mm, TimestampNs) {
-  const auto& k = impl_->camera;
+  Impl& m = *impl_;
+  const auto& k = m.camera;
   if (colour.width() != k.width || colour.height() != k.height || depth_mm.width() != k.width ||
       depth_mm.height() != k.height)
     throw std::invalid_argument("tracking: frame size differs from the colour camera's");
-  impl_->state = TrackingState::Tracking;
   TrackResult r;
-  r.state = impl_->state;
-  r.T_world_camera = impl_->origin;
-  r.inlier_fraction = 1.0;
-  r.keyframes = 1;
+  auto t0 = std::chrono::steady_clock::now();
+  m.build_pyramid(colour, depth_mm);
+  r.pyramid_ms = ms_since(t0);
+
+  if (m.state == TrackingState::Off) {
+    t0 = std::chrono::steady_clock::now();
+    m.make_current_keyframe(m.origin);
+    r.keyframe_ms = ms_since(t0);
+    m.T_world_last = m.origin;
+    m.last_motion = Pose::identity();
+    m.state = TrackingState::Tracking;
+    r.state = m.state;
+    r.T_world_camera = m.origin;
+    r.inlier_fraction = r.visible_fraction = 1.0;
+    r.keyframes = int(m.keyframes.size());
+    r.new_keyframe = true;
+    return r;
+  }
+
+  t0 = std::chrono::steady_clock::now();
+  Alignment a;
+  Keyframe* reference = nullptr;
+  if (m.state == TrackingState::Tracking) {
+    reference = &m.keyframes.back();
+    const Pose predicted =
+        m.params.constant_velocity ? m.T_world_last * m.last_motion : m.T_world_last;
+    a = m.align(*reference, predicted.inverse() * reference->T_world_keyframe, m.gain, m.bias);
+  } else {
+    // Lost: try every kept keyframe from the newest, starting at its own view.
+    for (auto it = m.keyframes.rbegin(); it != m.keyframes.rend(); ++it) {
+      const int before = a.iterations;
+      a = m.align(*it, Pose::identity(), 1.0, 0.0);
+      a.iterations += before;
+      if (a.accepted) {
+        reference = &*it;
+        r.relocalised = true;
+        break;
+      }
+    }
+  }
+  r.align_ms = ms_since(t0);
+  r.iterations = a.iterations;
+  r.residual_rms = a.residual_rms;
+  r.inlier_fraction = a.inlier_fraction;
+  r.visible_fraction = a.visible_fraction;
+  r.exposure_gain = a.gain;
+  r.exposure_bias = a.bias;
+
+  if (!a.accepted) {
+    m.state =
+        m.state == TrackingState::Tracking ? TrackingState::Lost : TrackingState::Relocalising;
+    r.state = m.state;
+    r.T_world_camera = m.T_world_last;  // the last known pose; not meaningful while lost
+    r.keyframes = int(m.keyframes.size());
+    return r;
+  }
+
+  const Pose T_world_camera = reference->T_world_keyframe * a.T_current_keyframe.inverse();
+  m.last_motion = r.relocalised ? Pose::identity() : m.T_world_last.inverse() * T_world_camera;
+  m.T_world_last = T_world_camera;
+  m.state = TrackingState::Tracking;
+  m.gain = a.gain;
+  m.bias = a.bias;
+  if (r.relocalised) {
+    // The reference is the keyframe that relocalised us: move it to the back.
+    Keyframe kf = std::move(*reference);
+    std::erase_if(m.keyframes, [](const Keyframe& kept) { return kept.points.empty(); });
+    m.keyframes.push_back(std::move(kf));
+  }
+
+  const Pose T_kf_cur = a.T_current_keyframe.inverse();
+  if (a.visible_fraction < m.params.keyframe_min_visible ||
+      T_kf_cur.translation.norm() > m.params.keyframe_max_translation_m ||
+      rotation_deg(T_kf_cur) > m.params.keyframe_max_rotation_deg) {
+    t0 = std::chrono::steady_clock::now();
+    m.make_current_keyframe(T_world_camera);
+    r.keyframe_ms = ms_since(t0);
+    r.new_keyframe = true;
+  }
+  r.state = m.state;
+  r.T_world_camera = T_world_camera;
+  r.keyframes = int(m.keyframes.size());
   return r;
 }
 
 void DenseTracker::reset(const Pose& T_world_camera) {
   impl_->origin = T_world_camera;
+  impl_->keyframes.clear();
   impl_->state = TrackingState::Off;
 }
 

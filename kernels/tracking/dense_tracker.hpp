@@ -23,9 +23,36 @@ namespace probeless::tracking {
 enum class TrackingState { Off, Tracking, Lost, Relocalising };
 const char* to_string(TrackingState state);
 
+// Defaults and their sources: docs/tracking.md "The dense tracker".
 struct DenseTrackerParams {
   float min_depth_m = 0.3f;  // depth outside [min, max] is not used
   float max_depth_m = 4.0f;
+
+  // Pyramid: `levels` levels used, the finest at 1/2^finest_level of the frame (1: 320x240
+  // for VGA, as DVO's real-time setting; 0 = full resolution).
+  int levels = 4;
+  int finest_level = 1;
+  // Keyframe points per level: one per block, the pixel of largest intensity gradient with
+  // valid depth (the block side follows from this budget).
+  int max_points_per_level = 4800;
+  int max_iterations = 10;        // Gauss-Newton iterations per level
+  double min_update = 1e-4;       // stop a level when |xi| (rad, m) falls below this
+  float student_nu = 5.0f;        // degrees of freedom of the t-distribution (Kerl et al.)
+  bool constant_velocity = true;  // predict from the last motion, else the last pose
+
+  // Inliers: residual within these bounds (grey levels after the brightness model; metres of
+  // point-to-plane distance at 1 m, scaled by depth squared as the sensor's noise).
+  float photometric_inlier = 20.0f;
+  float geometric_inlier_m = 0.04f;
+  // Lost when fewer keyframe points land inside the frame, or fewer of them are inliers.
+  float min_visible_fraction = 0.3f;
+  float min_inlier_fraction = 0.5f;
+
+  // A new keyframe when the current one is seen less or moved away (translation, rotation).
+  float keyframe_min_visible = 0.7f;
+  float keyframe_max_translation_m = 0.10f;
+  float keyframe_max_rotation_deg = 10.0f;
+  int max_keyframes = 8;  // kept for relocalisation, the oldest dropped first
 };
 
 struct TrackResult {
@@ -33,10 +60,18 @@ struct TrackResult {
   // The colour camera's pose in the tracker's world: the first frame's camera (or the pose
   // given to reset()). Meaningful only when state == Tracking.
   Pose T_world_camera;
-  double residual_rms = 0.0;     // photometric, intensity units, at the finest level
-  double inlier_fraction = 0.0;  // valid, non-outlier pixels / valid pixels
-  int keyframes = 0;             // kept for relocalisation
-  bool new_keyframe = false;     // this frame became the reference
+  double residual_rms = 0.0;      // photometric, intensity units, at the finest level
+  double inlier_fraction = 0.0;   // valid, non-outlier pixels / valid pixels
+  int keyframes = 0;              // kept for relocalisation
+  bool new_keyframe = false;      // this frame became the reference
+  bool relocalised = false;       // tracking resumed against a kept keyframe on this frame
+  double visible_fraction = 0.0;  // keyframe points that land inside this frame
+  double exposure_gain = 1.0;     // brightness model: I_frame = gain * I_keyframe + bias
+  double exposure_bias = 0.0;
+  int iterations = 0;        // Gauss-Newton iterations, every level (and every attempt)
+  double pyramid_ms = 0.0;   // time to build this frame's pyramid
+  double align_ms = 0.0;     // alignment (and relocalisation attempts)
+  double keyframe_ms = 0.0;  // keyframe precomputation when this frame became one
 };
 
 class DenseTracker {

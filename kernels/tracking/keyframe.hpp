@@ -1,0 +1,37 @@
+#pragma once
+// A keyframe in the inverse-compositional form: the points chosen on it at each pyramid level
+// with everything that does not depend on the current frame (3D point, intensity, normal and
+// both Jacobians) computed once when the frame becomes a keyframe.
+#include <CL/opencl.hpp>
+#include <vector>
+
+#include "core/pose.hpp"
+#include "kernels/tracking/frame_pyramid.hpp"
+
+namespace probeless::tracking {
+
+// 24 floats, the layout the device kernel reads (tracking.cl, PT_* offsets).
+struct TrackPoint {
+  float x, y, z;     // keyframe camera coordinates, metres
+  float intensity;   // grey level on the keyframe
+  float nx, ny, nz;  // surface normal towards the camera
+  float has_normal;  // 1: the point-to-plane residual is used
+  float j_photo[6];  // d(I_kf(pi(exp(xi) P))) / d xi at xi = 0, xi = (v, w)
+  float j_geo[6];    // -[n, P x n] / z^2 (the depth residual's Jacobian, noise-scaled)
+  float inv_z2;      // 1 / z^2: Kinect depth noise grows with z^2 (Khoshelham 2012)
+  float pad[3];
+};
+static_assert(sizeof(TrackPoint) == 24 * sizeof(float));
+
+struct Keyframe {
+  Pose T_world_keyframe;
+  std::vector<LevelCamera> cameras;             // per level, as the frame's pyramid
+  std::vector<std::vector<TrackPoint>> points;  // per level
+  std::vector<::cl::Buffer> device_points;      // per level, filled by the device path
+};
+
+// Chooses and precomputes the points of every level (CPU; once per keyframe).
+Keyframe make_keyframe(const FramePyramid& pyramid, const Pose& T_world_keyframe,
+                       int max_points_per_level);
+
+}  // namespace probeless::tracking

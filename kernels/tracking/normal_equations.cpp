@@ -1,0 +1,80 @@
+#include "kernels/tracking/normal_equations.hpp"
+
+#include <cmath>
+
+namespace probeless::tracking {
+namespace {
+
+void add_residual(NormalSums& s, const float* j, float r, float weight) {
+  int k = kH;
+  for (int a = 0; a < 6; ++a) {
+    const float wa = weight * j[a];
+    for (int b = a; b < 6; ++b) s[std::size_t(k++)] += double(wa * j[b]);
+    s[std::size_t(kG + a)] += double(wa * r);
+  }
+}
+
+float bilinear(const ImageF& img, float u, float v) {
+  const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
+  const float fx = u - float(x0), fy = v - float(y0);
+  const float* r0 = img.row(y0) + x0;
+  const float* r1 = img.row(y0 + 1) + x0;
+  return (1.0f - fy) * ((1.0f - fx) * r0[0] + fx * r0[1]) + fy * ((1.0f - fx) * r1[0] + fx * r1[1]);
+}
+
+}  // namespace
+
+NormalSums accumulate_reference(const std::vector<TrackPoint>& points, const FrameLevel& frame,
+                                const IterationParams& p) {
+  NormalSums s{};
+  const int w = frame.camera.width, h = frame.camera.height;
+  for (const TrackPoint& pt : points) {
+    const float X = p.r[0] * pt.x + p.r[1] * pt.y + p.r[2] * pt.z + p.t[0];
+    const float Y = p.r[3] * pt.x + p.r[4] * pt.y + p.r[5] * pt.z + p.t[1];
+    const float Z = p.r[6] * pt.x + p.r[7] * pt.y + p.r[8] * pt.z + p.t[2];
+    if (!(Z >= p.min_depth)) continue;
+    const float u = p.fx * X / Z + p.cx, v = p.fy * Y / Z + p.cy;
+    if (!(u >= 0.0f && v >= 0.0f && u < float(w - 1) && v < float(h - 1))) continue;
+    s[kVisible] += 1.0;
+    bool inlier = true;
+
+    const float current = bilinear(frame.intensity, u, v);
+    const float rp = (current - p.bias) * p.inv_gain - pt.intensity;
+    const float tp = (p.nu + 1.0f) / (p.nu + rp * rp * p.inv_var_photo);
+    add_residual(s, pt.j_photo, rp, tp * p.inv_var_photo);
+    s[kPhotoCount] += 1.0;
+    s[kPhotoWeightedSq] += double(tp * rp * rp);
+    s[kPhotoSq] += double(rp * rp);
+    s[kAffineW] += double(tp);
+    s[kAffineX] += double(tp * pt.intensity);
+    s[kAffineY] += double(tp * current);
+    s[kAffineXX] += double(tp * pt.intensity * pt.intensity);
+    s[kAffineYY] += double(tp * current * current);
+    inlier = std::abs(rp) <= p.photo_inlier;
+
+    if (pt.has_normal > 0.0f) {
+      // Projective association: the current frame's point at the nearest pixel.
+      const int ui = int(u + 0.5f), vi = int(v + 0.5f);
+      const float zc = frame.depth_m.at(ui, vi);
+      if (zc > 0.0f) {
+        const float qx = (float(ui) - p.cx) / p.fx * zc - X;
+        const float qy = (float(vi) - p.cy) / p.fy * zc - Y;
+        const float qz = zc - Z;
+        const float nx = p.r[0] * pt.nx + p.r[1] * pt.ny + p.r[2] * pt.nz;
+        const float ny = p.r[3] * pt.nx + p.r[4] * pt.ny + p.r[5] * pt.nz;
+        const float nz = p.r[6] * pt.nx + p.r[7] * pt.ny + p.r[8] * pt.nz;
+        const float rg = (nx * qx + ny * qy + nz * qz) * pt.inv_z2;
+        const float tg = (p.nu + 1.0f) / (p.nu + rg * rg * p.inv_var_geo);
+        add_residual(s, pt.j_geo, rg, tg * p.inv_var_geo);
+        s[kGeoCount] += 1.0;
+        s[kGeoWeightedSq] += double(tg * rg * rg);
+        s[kGeoSq] += double(rg * rg);
+        inlier = inlier && std::abs(rg) <= p.geo_inlier;
+      }
+    }
+    if (inlier) s[kInliers] += 1.0;
+  }
+  return s;
+}
+
+}  // namespace probeless::tracking

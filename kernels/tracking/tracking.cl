@@ -1,0 +1,163 @@
+// Dense RGB-D tracking on the device, the twin of frame_pyramid.cpp (the pyramid) and
+// normal_equations.cpp (one Gauss-Newton iteration's sums). LOCAL (a -D option) is the
+// work-group size of accumulate_normal_equations.
+#ifndef LOCAL
+#error "build with -DLOCAL=<work-group size>"
+#endif
+
+#define SUMS 40
+#define PT_STRIDE 24
+
+typedef struct {
+  float r[9];
+  float t[3];
+  float fx, fy, cx, cy;
+  float inv_gain, bias;
+  float inv_var_photo, inv_var_geo;
+  float nu;
+  float photo_inlier, geo_inlier;
+  float min_depth;
+} IterationParams;
+
+inline float luma(__global const uchar* rgb) {
+  return 0.299f * rgb[0] + 0.587f * rgb[1] + 0.114f * rgb[2];
+}
+
+inline float metres(ushort mm, float min_m, float max_m) {
+  const float z = (float)mm * 0.001f;
+  return z >= min_m && z <= max_m ? z : 0.0f;
+}
+
+// frame_pyramid.cpp block_depth: the mean of the valid samples within 5% of the nearest.
+inline float block_depth(float d0, float d1, float d2, float d3) {
+  float nearest = 0.0f;
+  if (d0 > 0.0f && (nearest == 0.0f || d0 < nearest)) nearest = d0;
+  if (d1 > 0.0f && (nearest == 0.0f || d1 < nearest)) nearest = d1;
+  if (d2 > 0.0f && (nearest == 0.0f || d2 < nearest)) nearest = d2;
+  if (d3 > 0.0f && (nearest == 0.0f || d3 < nearest)) nearest = d3;
+  if (nearest == 0.0f) return 0.0f;
+  const float bound = nearest * 1.05f;
+  float sum = 0.0f;
+  int count = 0;
+  if (d0 > 0.0f && d0 <= bound) { sum += d0; ++count; }
+  if (d1 > 0.0f && d1 <= bound) { sum += d1; ++count; }
+  if (d2 > 0.0f && d2 <= bound) { sum += d2; ++count; }
+  if (d3 > 0.0f && d3 <= bound) { sum += d3; ++count; }
+  return sum / (float)count;
+}
+
+// The finest level from the frame: factor 1 (full) or 2 (2x2 average).
+__kernel void finest_level(__global const uchar* colour, __global const ushort* depth_mm,
+                           int frame_width, int factor, float min_m, float max_m,
+                           __global float* intensity, __global float* depth_m, int width,
+                           int height) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x >= width || y >= height) return;
+  const int i = y * width + x;
+  if (factor == 1) {
+    const int s = y * frame_width + x;
+    intensity[i] = luma(colour + 3 * s);
+    depth_m[i] = metres(depth_mm[s], min_m, max_m);
+    return;
+  }
+  const int s = 2 * y * frame_width + 2 * x;
+  intensity[i] = 0.25f * (luma(colour + 3 * s) + luma(colour + 3 * (s + 1)) +
+                          luma(colour + 3 * (s + frame_width)) +
+                          luma(colour + 3 * (s + frame_width + 1)));
+  depth_m[i] = block_depth(metres(depth_mm[s], min_m, max_m), metres(depth_mm[s + 1], min_m, max_m),
+                           metres(depth_mm[s + frame_width], min_m, max_m),
+                           metres(depth_mm[s + frame_width + 1], min_m, max_m));
+}
+
+__kernel void halve(__global const float* in_intensity, __global const float* in_depth,
+                    int in_width, __global float* intensity, __global float* depth_m, int width,
+                    int height) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x >= width || y >= height) return;
+  const int s = 2 * y * in_width + 2 * x;
+  intensity[y * width + x] = 0.25f * (in_intensity[s] + in_intensity[s + 1] +
+                                      in_intensity[s + in_width] + in_intensity[s + in_width + 1]);
+  depth_m[y * width + x] = block_depth(in_depth[s], in_depth[s + 1], in_depth[s + in_width],
+                                       in_depth[s + in_width + 1]);
+}
+
+inline void add_residual(float* acc, __global const float* j, float r, float weight) {
+  int k = 0;
+  for (int a = 0; a < 6; ++a) {
+    const float wa = weight * j[a];
+    for (int b = a; b < 6; ++b) acc[k++] += wa * j[b];
+    acc[21 + a] += wa * r;
+  }
+}
+
+inline float bilinear(__global const float* img, int width, float u, float v) {
+  const int x0 = (int)floor(u), y0 = (int)floor(v);
+  const float fx = u - (float)x0, fy = v - (float)y0;
+  __global const float* r0 = img + y0 * width + x0;
+  __global const float* r1 = r0 + width;
+  return (1.0f - fy) * ((1.0f - fx) * r0[0] + fx * r0[1]) + fy * ((1.0f - fx) * r1[0] + fx * r1[1]);
+}
+
+// Each work-item sums its share of the points privately, then the work-group adds the items'
+// sums (one item per sum) into partial[group][SUMS]; the host adds the groups.
+__kernel __attribute__((reqd_work_group_size(LOCAL, 1, 1))) void accumulate_normal_equations(
+    __global const float* points, int count, __global const float* intensity,
+    __global const float* depth_m, int width, int height, IterationParams p,
+    __global float* partial) {
+  __local float shared[LOCAL * SUMS];
+  float acc[SUMS];
+  for (int k = 0; k < SUMS; ++k) acc[k] = 0.0f;
+  for (int i = get_global_id(0); i < count; i += get_global_size(0)) {
+    __global const float* pt = points + i * PT_STRIDE;
+    const float X = p.r[0] * pt[0] + p.r[1] * pt[1] + p.r[2] * pt[2] + p.t[0];
+    const float Y = p.r[3] * pt[0] + p.r[4] * pt[1] + p.r[5] * pt[2] + p.t[1];
+    const float Z = p.r[6] * pt[0] + p.r[7] * pt[1] + p.r[8] * pt[2] + p.t[2];
+    if (!(Z >= p.min_depth)) continue;
+    const float u = p.fx * X / Z + p.cx, v = p.fy * Y / Z + p.cy;
+    if (!(u >= 0.0f && v >= 0.0f && u < (float)(width - 1) && v < (float)(height - 1))) continue;
+    acc[33] += 1.0f;
+
+    const float current = bilinear(intensity, width, u, v);
+    const float rp = (current - p.bias) * p.inv_gain - pt[3];
+    const float tp = (p.nu + 1.0f) / (p.nu + rp * rp * p.inv_var_photo);
+    add_residual(acc, pt + 8, rp, tp * p.inv_var_photo);
+    acc[27] += 1.0f;
+    acc[28] += tp * rp * rp;
+    acc[29] += rp * rp;
+    acc[35] += tp;
+    acc[36] += tp * pt[3];
+    acc[37] += tp * current;
+    acc[38] += tp * pt[3] * pt[3];
+    acc[39] += tp * current * current;
+    bool inlier = fabs(rp) <= p.photo_inlier;
+
+    if (pt[7] > 0.0f) {
+      const int ui = (int)(u + 0.5f), vi = (int)(v + 0.5f);
+      const float zc = depth_m[vi * width + ui];
+      if (zc > 0.0f) {
+        const float qx = ((float)ui - p.cx) / p.fx * zc - X;
+        const float qy = ((float)vi - p.cy) / p.fy * zc - Y;
+        const float qz = zc - Z;
+        const float nx = p.r[0] * pt[4] + p.r[1] * pt[5] + p.r[2] * pt[6];
+        const float ny = p.r[3] * pt[4] + p.r[4] * pt[5] + p.r[5] * pt[6];
+        const float nz = p.r[6] * pt[4] + p.r[7] * pt[5] + p.r[8] * pt[6];
+        const float rg = (nx * qx + ny * qy + nz * qz) * pt[20];
+        const float tg = (p.nu + 1.0f) / (p.nu + rg * rg * p.inv_var_geo);
+        add_residual(acc, pt + 14, rg, tg * p.inv_var_geo);
+        acc[30] += 1.0f;
+        acc[31] += tg * rg * rg;
+        acc[32] += rg * rg;
+        inlier = inlier && fabs(rg) <= p.geo_inlier;
+      }
+    }
+    if (inlier) acc[34] += 1.0f;
+  }
+  const int lid = get_local_id(0);
+  for (int k = 0; k < SUMS; ++k) shared[lid * SUMS + k] = acc[k];
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid < SUMS) {
+    float total = 0.0f;
+    for (int l = 0; l < LOCAL; ++l) total += shared[l * SUMS + lid];
+    partial[get_group_id(0) * SUMS + lid] = total;
+  }
+}

@@ -1,0 +1,46 @@
+#pragma once
+// The device side of the dense tracker (tracking.cl): the current frame's pyramid (grey,
+// metres, 2x2 averaging) stays on the device, and each Gauss-Newton iteration reduces the
+// keyframe points' residuals to partial sums per work-group, added up on the host.
+#include <vector>
+
+#include "core/camera/pinhole.hpp"
+#include "core/image.hpp"
+#include "kernels/runtime/compute_context.hpp"
+#include "kernels/runtime/device_image.hpp"
+#include "kernels/tracking/keyframe.hpp"
+#include "kernels/tracking/normal_equations.hpp"
+
+namespace probeless::tracking {
+
+struct DenseTrackerParams;
+
+class TrackingDevice {
+ public:
+  explicit TrackingDevice(ComputeContext& ctx);
+
+  // The frame's pyramid on the device; the cameras of its levels in `cameras`.
+  void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm,
+                     const PinholeIntrinsics& camera, const DenseTrackerParams& params);
+  // The last built pyramid on the host (when the frame becomes a keyframe, and for tests).
+  void download_pyramid(FramePyramid& pyramid);
+  // Copies the keyframe's points to the device once (no-op when already there).
+  void upload_points(Keyframe& keyframe);
+  // One iteration's sums at `level` of the last built pyramid.
+  NormalSums accumulate(const Keyframe& keyframe, int level, const IterationParams& params);
+
+ private:
+  struct Level {
+    LevelCamera camera;
+    DeviceImage<float, 1> intensity, depth_m;
+  };
+  ComputeContext& ctx_;
+  ::cl::Kernel finest_, halve_, accumulate_;
+  DeviceImage<std::uint8_t, 3> colour_;
+  DeviceImage<std::uint16_t, 1> depth_mm_;
+  std::vector<Level> levels_;
+  ::cl::Buffer partial_;
+  std::vector<float> partial_host_;
+};
+
+}  // namespace probeless::tracking
