@@ -63,6 +63,7 @@ struct DenseTracker::Impl {
   ComputeContext* ctx = nullptr;
   PinholeIntrinsics camera;
   DenseTrackerParams params;
+  std::vector<float> undistort;  // undistortion_map(); empty without distortion
   std::optional<TrackingDevice> device;
   Pose origin;
   TrackingState state = TrackingState::Off;
@@ -75,9 +76,9 @@ struct DenseTracker::Impl {
 
   void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm) {
     if (device)
-      device->build_pyramid(colour, depth_mm, camera, params);
+      device->build_pyramid(colour, depth_mm, camera, params, undistort);
     else
-      build_pyramid_reference(colour, depth_mm, camera, params, current);
+      build_pyramid_reference(colour, depth_mm, camera, params, undistort, current);
   }
 
   void make_current_keyframe(const Pose& T_world_camera) {
@@ -161,7 +162,8 @@ Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gai
       const Vector6d xi = H.ldlt().solve(g);
       if (!xi.allFinite()) break;
       T = T * se3_exp(-xi);
-      if (xi.norm() < params.min_update) break;
+      // A step's image motion halves per coarser level: the bound is in finest-level pixels.
+      if (xi.norm() < params.min_update * double(1 << level)) break;
     }
     if (level == 0) {
       const double n = double(points.size());
@@ -177,7 +179,12 @@ Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gai
 
 DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeIntrinsics& camera,
                            DenseTrackerParams params)
+    : DenseTracker(ctx, PinholeCamera(camera), params) {}
+
+DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeCamera& pinhole,
+                           DenseTrackerParams params)
     : impl_(std::make_unique<Impl>()) {
+  const PinholeIntrinsics& camera = pinhole.intrinsics();
   if (params.finest_level < 0 || params.finest_level > 1)
     throw std::invalid_argument("tracking: finest_level must be 0 (full) or 1 (half resolution)");
   if (params.levels < 1 || (camera.width >> (params.finest_level + params.levels - 1)) < 8 ||
@@ -188,6 +195,7 @@ DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeIntrinsics& camera,
   impl_->ctx = ctx;
   impl_->camera = camera;
   impl_->params = params;
+  impl_->undistort = undistortion_map(pinhole, params.finest_level);
   if (ctx) impl_->device.emplace(*ctx);
 }
 

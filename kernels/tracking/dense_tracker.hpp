@@ -80,6 +80,9 @@ class DenseTracker {
   // `camera` is the colour camera (depth is registered to it); images must be its size.
   DenseTracker(ComputeContext* ctx, const PinholeIntrinsics& camera,
                DenseTrackerParams params = {});
+  // With the colour camera's lens distortion: the finest level is undistorted (depth is taken
+  // as registered to the distorted colour image, as the Kinect's registration delivers it).
+  DenseTracker(ComputeContext* ctx, const PinholeCamera& camera, DenseTrackerParams params = {});
   ~DenseTracker();
   DenseTracker(const DenseTracker&) = delete;
   DenseTracker& operator=(const DenseTracker&) = delete;

@@ -20,6 +20,24 @@ LevelCamera level_camera(const PinholeIntrinsics& camera, int level) {
   return c;
 }
 
+std::vector<float> undistortion_map(const PinholeCamera& camera, int finest_level) {
+  if (camera.distortion().is_zero()) return {};
+  const auto& k = camera.intrinsics();
+  const LevelCamera c = level_camera(k, finest_level);
+  const double scale = double(1 << finest_level);
+  std::vector<float> map;
+  map.reserve(std::size_t(c.width) * std::size_t(c.height) * 2);
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      // Full-resolution pixel centre, its ray, the distorted pixel, back to the level.
+      const double fx = (x + 0.5) * scale - 0.5, fy = (y + 0.5) * scale - 0.5;
+      const auto p = camera.project({(fx - k.cx) / k.fx, (fy - k.cy) / k.fy, 1.0});
+      map.push_back(p ? float((p->x() + 0.5) / scale - 0.5) : -1.0f);
+      map.push_back(p ? float((p->y() + 0.5) / scale - 0.5) : -1.0f);
+    }
+  return map;
+}
+
 float block_depth(const float* d, int n) {
   float nearest = 0.0f;
   for (int i = 0; i < n; ++i)
@@ -66,6 +84,29 @@ void finest_level(const ImageRGB8& colour, const DepthImage& depth_mm, int facto
     }
 }
 
+// Intensity bilinear (clamped at the border), depth from the nearest pixel (interpolating
+// depth across an edge would invent surfaces); outside the distorted image: no depth.
+void undistort_level(const std::vector<float>& map, FrameLevel& level) {
+  const int w = level.camera.width, h = level.camera.height;
+  const ImageF intensity = level.intensity, depth = level.depth_m;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
+      const float u = map[2 * i], v = map[2 * i + 1];
+      if (!(u >= 0.0f && v >= 0.0f && u <= float(w - 1) && v <= float(h - 1))) {
+        level.intensity.at(x, y) = intensity.at(x, y);
+        level.depth_m.at(x, y) = 0.0f;
+        continue;
+      }
+      const int x0 = std::min(int(u), w - 2), y0 = std::min(int(v), h - 2);
+      const float ax = u - float(x0), ay = v - float(y0);
+      level.intensity.at(x, y) =
+          (1.0f - ay) * ((1.0f - ax) * intensity.at(x0, y0) + ax * intensity.at(x0 + 1, y0)) +
+          ay * ((1.0f - ax) * intensity.at(x0, y0 + 1) + ax * intensity.at(x0 + 1, y0 + 1));
+      level.depth_m.at(x, y) = depth.at(int(u + 0.5f), int(v + 0.5f));
+    }
+}
+
 void halve(const FrameLevel& in, FrameLevel& out) {
   const int w = out.camera.width, h = out.camera.height;
   out.intensity = ImageF(w, h);
@@ -86,11 +127,12 @@ void halve(const FrameLevel& in, FrameLevel& out) {
 
 void build_pyramid_reference(const ImageRGB8& colour, const DepthImage& depth_mm,
                              const PinholeIntrinsics& camera, const DenseTrackerParams& params,
-                             FramePyramid& pyramid) {
+                             const std::vector<float>& undistort, FramePyramid& pyramid) {
   pyramid.levels.resize(std::size_t(params.levels));
   for (int i = 0; i < params.levels; ++i)
     pyramid.levels[std::size_t(i)].camera = level_camera(camera, params.finest_level + i);
   finest_level(colour, depth_mm, params.finest_level == 0 ? 1 : 2, params, pyramid.levels[0]);
+  if (!undistort.empty()) undistort_level(undistort, pyramid.levels[0]);
   for (std::size_t i = 1; i < pyramid.levels.size(); ++i)
     halve(pyramid.levels[i - 1], pyramid.levels[i]);
 }

@@ -39,9 +39,13 @@ inline float luma(const std::uint8_t* rgb) {
 // a block across a depth edge takes the front surface instead of a point in mid-air.
 float block_depth(const float* d, int n);
 
-// The CPU reference of the device's pyramid kernels.
+// Where each pixel of the undistorted finest level lies in the distorted one (x, y pairs,
+// row-major); empty when the camera has no distortion. Outside the image: (-1, -1).
+std::vector<float> undistortion_map(const PinholeCamera& camera, int finest_level);
+
+// The CPU reference of the device's pyramid kernels. `undistort` from undistortion_map().
 void build_pyramid_reference(const ImageRGB8& colour, const DepthImage& depth_mm,
                              const PinholeIntrinsics& camera, const DenseTrackerParams& params,
-                             FramePyramid& pyramid);
+                             const std::vector<float>& undistort, FramePyramid& pyramid);
 
 }  // namespace probeless::tracking

@@ -77,8 +77,9 @@ std::vector<TrackPoint> select_points(const FrameLevel& f, int max_points) {
   const int w = f.camera.width, h = f.camera.height;
   std::vector<TrackPoint> points;
   if (w < 3 || h < 3) return points;
+  // At least 2x2 blocks: coarse levels only start the finer ones, they need no more points.
   const int block =
-      std::max(1, int(std::ceil(std::sqrt(double(w) * h / double(std::max(1, max_points))))));
+      std::max(2, int(std::ceil(std::sqrt(double(w) * h / double(std::max(1, max_points))))));
   points.reserve(std::size_t((w / block + 1) * (h / block + 1)));
   for (int by = 1; by < h - 1; by += block)
     for (int bx = 1; bx < w - 1; bx += block) {

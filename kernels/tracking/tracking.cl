@@ -69,6 +69,28 @@ __kernel void finest_level(__global const uchar* colour, __global const ushort* 
                            metres(depth_mm[s + frame_width + 1], min_m, max_m));
 }
 
+// frame_pyramid.cpp undistort_level: intensity bilinear (clamped outside), depth nearest.
+__kernel void undistort(__global const float* in_intensity, __global const float* in_depth,
+                        __global const float* map, __global float* intensity,
+                        __global float* depth_m, int width, int height) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x >= width || y >= height) return;
+  const int i = y * width + x;
+  const float u = map[2 * i], v = map[2 * i + 1];
+  if (!(u >= 0.0f && v >= 0.0f && u <= (float)(width - 1) && v <= (float)(height - 1))) {
+    intensity[i] = in_intensity[i];
+    depth_m[i] = 0.0f;
+    return;
+  }
+  const int x0 = min((int)u, width - 2), y0 = min((int)v, height - 2);
+  const float ax = u - (float)x0, ay = v - (float)y0;
+  __global const float* r0 = in_intensity + y0 * width + x0;
+  __global const float* r1 = r0 + width;
+  intensity[i] = (1.0f - ay) * ((1.0f - ax) * r0[0] + ax * r0[1]) +
+                 ay * ((1.0f - ax) * r1[0] + ax * r1[1]);
+  depth_m[i] = in_depth[(int)(v + 0.5f) * width + (int)(u + 0.5f)];
+}
+
 __kernel void halve(__global const float* in_intensity, __global const float* in_depth,
                     int in_width, __global float* intensity, __global float* depth_m, int width,
                     int height) {

@@ -19,6 +19,7 @@ const std::string kOptions = "-DLOCAL=" + std::to_string(kLocal);
 TrackingDevice::TrackingDevice(ComputeContext& ctx)
     : ctx_(ctx),
       finest_(ctx.kernel("tracking", cl_source::tracking, kOptions, "finest_level")),
+      undistort_(ctx.kernel("tracking", cl_source::tracking, kOptions, "undistort")),
       halve_(ctx.kernel("tracking", cl_source::tracking, kOptions, "halve")),
       accumulate_(
           ctx.kernel("tracking", cl_source::tracking, kOptions, "accumulate_normal_equations")),
@@ -27,7 +28,8 @@ TrackingDevice::TrackingDevice(ComputeContext& ctx)
 
 void TrackingDevice::build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm,
                                    const PinholeIntrinsics& camera,
-                                   const DenseTrackerParams& params) {
+                                   const DenseTrackerParams& params,
+                                   const std::vector<float>& undistort) {
   auto& q = ctx_.queue();
   colour_.upload(q, colour, false);
   depth_mm_.upload(q, depth_mm, false);
@@ -38,7 +40,19 @@ void TrackingDevice::build_pyramid(const ImageRGB8& colour, const DepthImage& de
     l.intensity.resize(ctx_.context(), l.camera.width, l.camera.height);
     l.depth_m.resize(ctx_.context(), l.camera.width, l.camera.height);
   }
-  const Level& f = levels_[0];
+  const Level& f = undistort.empty() ? levels_[0] : distorted_;
+  if (!undistort.empty()) {
+    distorted_.camera = levels_[0].camera;
+    distorted_.intensity.resize(ctx_.context(), f.camera.width, f.camera.height);
+    distorted_.depth_m.resize(ctx_.context(), f.camera.width, f.camera.height);
+    if (uploaded_map_ != &undistort) {
+      undistort_map_ =
+          ::cl::Buffer(ctx_.context(), CL_MEM_READ_ONLY, sizeof(float) * undistort.size());
+      q.enqueueWriteBuffer(undistort_map_, CL_TRUE, 0, sizeof(float) * undistort.size(),
+                           undistort.data());
+      uploaded_map_ = &undistort;
+    }
+  }
   finest_.setArg(0, colour_.buffer());
   finest_.setArg(1, depth_mm_.buffer());
   finest_.setArg(2, colour.width());
@@ -50,6 +64,17 @@ void TrackingDevice::build_pyramid(const ImageRGB8& colour, const DepthImage& de
   finest_.setArg(8, f.camera.width);
   finest_.setArg(9, f.camera.height);
   ctx_.run_2d(finest_, f.camera.width, f.camera.height);
+  if (!undistort.empty()) {
+    const Level& out = levels_[0];
+    undistort_.setArg(0, f.intensity.buffer());
+    undistort_.setArg(1, f.depth_m.buffer());
+    undistort_.setArg(2, undistort_map_);
+    undistort_.setArg(3, out.intensity.buffer());
+    undistort_.setArg(4, out.depth_m.buffer());
+    undistort_.setArg(5, out.camera.width);
+    undistort_.setArg(6, out.camera.height);
+    ctx_.run_2d(undistort_, out.camera.width, out.camera.height);
+  }
   for (std::size_t i = 1; i < levels_.size(); ++i) {
     const Level &in = levels_[i - 1], &out = levels_[i];
     halve_.setArg(0, in.intensity.buffer());

@@ -21,7 +21,8 @@ class TrackingDevice {
 
   // The frame's pyramid on the device; the cameras of its levels in `cameras`.
   void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm,
-                     const PinholeIntrinsics& camera, const DenseTrackerParams& params);
+                     const PinholeIntrinsics& camera, const DenseTrackerParams& params,
+                     const std::vector<float>& undistort);
   // The last built pyramid on the host (when the frame becomes a keyframe, and for tests).
   void download_pyramid(FramePyramid& pyramid);
   // Copies the keyframe's points to the device once (no-op when already there).
@@ -35,7 +36,10 @@ class TrackingDevice {
     DeviceImage<float, 1> intensity, depth_m;
   };
   ComputeContext& ctx_;
-  ::cl::Kernel finest_, halve_, accumulate_;
+  ::cl::Kernel finest_, undistort_, halve_, accumulate_;
+  Level distorted_;  // the finest level before undistortion
+  ::cl::Buffer undistort_map_;
+  const std::vector<float>* uploaded_map_ = nullptr;
   DeviceImage<std::uint8_t, 3> colour_;
   DeviceImage<std::uint16_t, 1> depth_mm_;
   std::vector<Level> levels_;
