@@ -76,7 +76,7 @@ struct DenseTracker::Impl {
 
   void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm) {
     if (device)
-      device->build_pyramid(colour, depth_mm, camera, params, undistort);
+      device->build_pyramid(colour, depth_mm, camera, params);
     else
       build_pyramid_reference(colour, depth_mm, camera, params, undistort, current);
   }
@@ -196,7 +196,10 @@ DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeCamera& pinhole,
   impl_->camera = camera;
   impl_->params = params;
   impl_->undistort = undistortion_map(pinhole, params.finest_level);
-  if (ctx) impl_->device.emplace(*ctx);
+  if (ctx) {
+    impl_->device.emplace(*ctx);
+    impl_->device->set_undistortion(impl_->undistort);
+  }
 }
 
 DenseTracker::~DenseTracker() = default;

@@ -39,10 +39,22 @@ inline float block_depth(float d0, float d1, float d2, float d3) {
   const float bound = nearest * 1.05f;
   float sum = 0.0f;
   int count = 0;
-  if (d0 > 0.0f && d0 <= bound) { sum += d0; ++count; }
-  if (d1 > 0.0f && d1 <= bound) { sum += d1; ++count; }
-  if (d2 > 0.0f && d2 <= bound) { sum += d2; ++count; }
-  if (d3 > 0.0f && d3 <= bound) { sum += d3; ++count; }
+  if (d0 > 0.0f && d0 <= bound) {
+    sum += d0;
+    ++count;
+  }
+  if (d1 > 0.0f && d1 <= bound) {
+    sum += d1;
+    ++count;
+  }
+  if (d2 > 0.0f && d2 <= bound) {
+    sum += d2;
+    ++count;
+  }
+  if (d3 > 0.0f && d3 <= bound) {
+    sum += d3;
+    ++count;
+  }
   return sum / (float)count;
 }
 
@@ -61,9 +73,9 @@ __kernel void finest_level(__global const uchar* colour, __global const ushort* 
     return;
   }
   const int s = 2 * y * frame_width + 2 * x;
-  intensity[i] = 0.25f * (luma(colour + 3 * s) + luma(colour + 3 * (s + 1)) +
-                          luma(colour + 3 * (s + frame_width)) +
-                          luma(colour + 3 * (s + frame_width + 1)));
+  intensity[i] =
+      0.25f * (luma(colour + 3 * s) + luma(colour + 3 * (s + 1)) +
+               luma(colour + 3 * (s + frame_width)) + luma(colour + 3 * (s + frame_width + 1)));
   depth_m[i] = block_depth(metres(depth_mm[s], min_m, max_m), metres(depth_mm[s + 1], min_m, max_m),
                            metres(depth_mm[s + frame_width], min_m, max_m),
                            metres(depth_mm[s + frame_width + 1], min_m, max_m));
@@ -86,8 +98,8 @@ __kernel void undistort(__global const float* in_intensity, __global const float
   const float ax = u - (float)x0, ay = v - (float)y0;
   __global const float* r0 = in_intensity + y0 * width + x0;
   __global const float* r1 = r0 + width;
-  intensity[i] = (1.0f - ay) * ((1.0f - ax) * r0[0] + ax * r0[1]) +
-                 ay * ((1.0f - ax) * r1[0] + ax * r1[1]);
+  intensity[i] =
+      (1.0f - ay) * ((1.0f - ax) * r0[0] + ax * r0[1]) + ay * ((1.0f - ax) * r1[0] + ax * r1[1]);
   depth_m[i] = in_depth[(int)(v + 0.5f) * width + (int)(u + 0.5f)];
 }
 
@@ -99,8 +111,8 @@ __kernel void halve(__global const float* in_intensity, __global const float* in
   const int s = 2 * y * in_width + 2 * x;
   intensity[y * width + x] = 0.25f * (in_intensity[s] + in_intensity[s + 1] +
                                       in_intensity[s + in_width] + in_intensity[s + in_width + 1]);
-  depth_m[y * width + x] = block_depth(in_depth[s], in_depth[s + 1], in_depth[s + in_width],
-                                       in_depth[s + in_width + 1]);
+  depth_m[y * width + x] =
+      block_depth(in_depth[s], in_depth[s + 1], in_depth[s + in_width], in_depth[s + in_width + 1]);
 }
 
 inline void add_residual(float* acc, __global const float* j, float r, float weight) {

@@ -1,6 +1,7 @@
 #include "kernels/tracking/tracking_device.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "kernels/tracking/dense_tracker.hpp"
 #include "kernels/tracking/tracking_cl.hpp"
@@ -28,8 +29,7 @@ TrackingDevice::TrackingDevice(ComputeContext& ctx)
 
 void TrackingDevice::build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm,
                                    const PinholeIntrinsics& camera,
-                                   const DenseTrackerParams& params,
-                                   const std::vector<float>& undistort) {
+                                   const DenseTrackerParams& params) {
   auto& q = ctx_.queue();
   colour_.upload(q, colour, false);
   depth_mm_.upload(q, depth_mm, false);
@@ -40,18 +40,15 @@ void TrackingDevice::build_pyramid(const ImageRGB8& colour, const DepthImage& de
     l.intensity.resize(ctx_.context(), l.camera.width, l.camera.height);
     l.depth_m.resize(ctx_.context(), l.camera.width, l.camera.height);
   }
-  const Level& f = undistort.empty() ? levels_[0] : distorted_;
-  if (!undistort.empty()) {
+  const bool undistort = map_size_ > 0;
+  if (undistort &&
+      map_size_ != 2 * std::size_t(levels_[0].camera.width) * std::size_t(levels_[0].camera.height))
+    throw std::invalid_argument("tracking: the undistortion map is not the finest level's size");
+  const Level& f = undistort ? distorted_ : levels_[0];
+  if (undistort) {
     distorted_.camera = levels_[0].camera;
     distorted_.intensity.resize(ctx_.context(), f.camera.width, f.camera.height);
     distorted_.depth_m.resize(ctx_.context(), f.camera.width, f.camera.height);
-    if (uploaded_map_ != &undistort) {
-      undistort_map_ =
-          ::cl::Buffer(ctx_.context(), CL_MEM_READ_ONLY, sizeof(float) * undistort.size());
-      q.enqueueWriteBuffer(undistort_map_, CL_TRUE, 0, sizeof(float) * undistort.size(),
-                           undistort.data());
-      uploaded_map_ = &undistort;
-    }
   }
   finest_.setArg(0, colour_.buffer());
   finest_.setArg(1, depth_mm_.buffer());
@@ -64,7 +61,7 @@ void TrackingDevice::build_pyramid(const ImageRGB8& colour, const DepthImage& de
   finest_.setArg(8, f.camera.width);
   finest_.setArg(9, f.camera.height);
   ctx_.run_2d(finest_, f.camera.width, f.camera.height);
-  if (!undistort.empty()) {
+  if (undistort) {
     const Level& out = levels_[0];
     undistort_.setArg(0, f.intensity.buffer());
     undistort_.setArg(1, f.depth_m.buffer());
@@ -88,6 +85,14 @@ void TrackingDevice::build_pyramid(const ImageRGB8& colour, const DepthImage& de
   }
   // The uploads were not blocking: the host images must not be needed after we return.
   q.finish();
+}
+
+void TrackingDevice::set_undistortion(const std::vector<float>& map) {
+  map_size_ = map.size();
+  if (map.empty()) return;
+  undistort_map_ = ::cl::Buffer(ctx_.context(), CL_MEM_READ_ONLY, sizeof(float) * map.size());
+  ctx_.queue().enqueueWriteBuffer(undistort_map_, CL_TRUE, 0, sizeof(float) * map.size(),
+                                  map.data());
 }
 
 void TrackingDevice::download_pyramid(FramePyramid& pyramid) {

@@ -19,10 +19,11 @@ class TrackingDevice {
  public:
   explicit TrackingDevice(ComputeContext& ctx);
 
-  // The frame's pyramid on the device; the cameras of its levels in `cameras`.
+  // The undistortion_map() build_pyramid() applies from now on (empty: none).
+  void set_undistortion(const std::vector<float>& map);
+  // The frame's pyramid on the device.
   void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm,
-                     const PinholeIntrinsics& camera, const DenseTrackerParams& params,
-                     const std::vector<float>& undistort);
+                     const PinholeIntrinsics& camera, const DenseTrackerParams& params);
   // The last built pyramid on the host (when the frame becomes a keyframe, and for tests).
   void download_pyramid(FramePyramid& pyramid);
   // Copies the keyframe's points to the device once (no-op when already there).
@@ -39,7 +40,7 @@ class TrackingDevice {
   ::cl::Kernel finest_, undistort_, halve_, accumulate_;
   Level distorted_;  // the finest level before undistortion
   ::cl::Buffer undistort_map_;
-  const std::vector<float>* uploaded_map_ = nullptr;
+  std::size_t map_size_ = 0;  // floats in undistort_map_; 0: no undistortion
   DeviceImage<std::uint8_t, 3> colour_;
   DeviceImage<std::uint16_t, 1> depth_mm_;
   std::vector<Level> levels_;

@@ -1,47 +1,27 @@
 // The tracker on 150 real frames of TUM fr1/rpy (Kinect v1, motion capture ground truth).
 #include <gtest/gtest.h>
 
-#include <algorithm>
-
 #include "kernels/tracking/dense_tracker.hpp"
 #include "unit/tracking/tum_frames.hpp"
 
 namespace probeless::tracking {
 namespace {
 
-TEST(DenseTrackerTum, TracksFr1RpyWithinTheAteBound) {
+// The bar of issue #17 is half the best OpenCV 4.6 odometry on the same frames: RgbdICP gave
+// 0.0396 m here (frame to frame, default parameters, no distortion; docs/tracking.md), so
+// 0.0198 m. The tracker measured 0.0186 m; the bound leaves no room for a regression past it.
+constexpr double kAteBoundM = 0.0198;
+
+TEST(DenseTrackerTum, TracksFr1RpyWithoutLossBelowTheAteBound) {
   PROBELESS_REQUIRE_DATA(testing::kTumRpy);
   const auto frames = testing::read_tum_frames();
-  ASSERT_GE(frames.size(), 100u);
+  ASSERT_EQ(frames.size(), 150u);
   DenseTracker tracker(nullptr, testing::tum_fr1_camera());
-  std::vector<Eigen::Vector3d> estimate, truth;
-  std::vector<double> ms;
-  int lost = 0, keyframes = 0;
-  double min_inliers = 1.0;
-  for (const auto& f : frames) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const TrackResult r = tracker.track(f.colour, f.depth_mm, f.timestamp_ns);
-    ms.push_back(
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
-    if (r.state != TrackingState::Tracking) {
-      ++lost;
-      continue;
-    }
-    keyframes += r.new_keyframe;
-    min_inliers = std::min(min_inliers, r.inlier_fraction);
-    if (!f.truth) continue;
-    estimate.push_back(r.T_world_camera.translation);
-    truth.push_back(f.truth->translation);
-  }
-  std::sort(ms.begin(), ms.end());
-  const double ate = testing::ate_rmse(estimate, truth);
-  std::printf(
-      "fr1/rpy %zu frames: ATE %.4f m, lost %d, keyframes %d, min inliers %.3f, "
-      "p50 %.2f ms, p99 %.2f ms (CPU reference)\n",
-      frames.size(), ate, lost, keyframes, min_inliers, ms[ms.size() / 2],
-      ms[ms.size() * 99 / 100]);
-  EXPECT_EQ(lost, 0);
-  EXPECT_LT(ate, 0.03);
+  const auto run = testing::run_tum(tracker, frames);
+  testing::print_tum_run("CPU reference", frames.size(), run);
+  EXPECT_EQ(run.lost, 0);
+  EXPECT_LT(run.ate_m, kAteBoundM);
+  EXPECT_GT(run.keyframes, 1);  // rpy turns by tens of degrees: keyframes must switch
 }
 
 }  // namespace

@@ -1,0 +1,155 @@
+// The device path of the dense tracker against its CPU reference: the pyramid, one
+// iteration's normal equations, and whole tracks on real TUM frames.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "kernels/tracking/dense_tracker.hpp"
+#include "kernels/tracking/keyframe.hpp"
+#include "kernels/tracking/normal_equations.hpp"
+#include "kernels/tracking/tracking_device.hpp"
+#include "support/cl_context.hpp"
+#include "unit/tracking/tum_frames.hpp"
+
+namespace probeless::tracking {
+namespace {
+
+using testing::cl_context;
+
+// Random colour and depth with holes and values outside the depth range.
+std::pair<ImageRGB8, DepthImage> random_frame(int w, int h, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_int_distribution<int> byte(0, 255), mm(0, 5000), hole(0, 9);
+  ImageRGB8 colour(w, h);
+  DepthImage depth(w, h);
+  for (auto& v : colour.elements()) v = std::uint8_t(byte(rng));
+  for (auto& d : depth.elements()) d = hole(rng) == 0 ? 0 : std::uint16_t(mm(rng));
+  return {colour, depth};
+}
+
+void expect_same_pyramid(const FramePyramid& device, const FramePyramid& reference,
+                         const std::string& what) {
+  ASSERT_EQ(device.levels.size(), reference.levels.size());
+  for (std::size_t l = 0; l < device.levels.size(); ++l) {
+    const auto &d = device.levels[l], &r = reference.levels[l];
+    ASSERT_EQ(d.intensity.width(), r.intensity.width()) << what << " level " << l;
+    ASSERT_EQ(d.intensity.height(), r.intensity.height()) << what << " level " << l;
+    float max_i = 0, max_d = 0;
+    for (std::size_t i = 0; i < d.intensity.pixel_count(); ++i) {
+      max_i = std::max(max_i, std::abs(d.intensity.data()[i] - r.intensity.data()[i]));
+      max_d = std::max(max_d, std::abs(d.depth_m.data()[i] - r.depth_m.data()[i]));
+    }
+    EXPECT_LT(max_i, 1e-3f) << what << " level " << l;  // grey levels
+    EXPECT_LT(max_d, 1e-5f) << what << " level " << l;  // metres
+  }
+}
+
+TEST(TrackingDevice, PyramidMatchesTheReference) {
+  DenseTrackerParams params;
+  const PinholeIntrinsics vga;
+  const PinholeCamera distorted(vga, {0.26, -0.95, -0.005, 0.003, 1.16});
+  TrackingDevice device(cl_context());
+  unsigned seed = 1;
+  // VGA, and odd sizes whose halves are rounded down at every level.
+  for (const auto& [w, h] : std::vector<std::pair<int, int>>{{640, 480}, {643, 487}, {130, 98}}) {
+    PinholeIntrinsics k = vga;
+    k.width = w;
+    k.height = h;
+    const auto [colour, depth] = random_frame(w, h, seed++);
+    for (int finest = 0; finest <= 1; ++finest) {
+      params.finest_level = finest;
+      params.levels = finest == 0 && w < 200 ? 3 : 4;
+      if (w < 200 && finest == 1) params.levels = 2;
+      for (const bool undistort : {false, true}) {
+        const auto map =
+            undistort && w == 640 ? undistortion_map(distorted, finest) : std::vector<float>{};
+        FramePyramid reference, on_device;
+        build_pyramid_reference(colour, depth, k, params, map, reference);
+        device.set_undistortion(map);
+        device.build_pyramid(colour, depth, k, params);
+        device.download_pyramid(on_device);
+        expect_same_pyramid(on_device, reference,
+                            std::to_string(w) + "x" + std::to_string(h) + " finest " +
+                                std::to_string(finest) + (map.empty() ? "" : " undistorted"));
+      }
+    }
+  }
+}
+
+TEST(TrackingDevice, NormalEquationsMatchTheReferenceOnTumFrames) {
+  PROBELESS_REQUIRE_DATA(testing::kTumRpy);
+  const auto frames = testing::read_tum_frames(12);
+  const DenseTrackerParams params;
+  const auto camera = testing::tum_fr1_camera();
+  const auto map = undistortion_map(camera, params.finest_level);
+  TrackingDevice device(cl_context());
+  FramePyramid key_pyramid, current;
+  build_pyramid_reference(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params, map,
+                          key_pyramid);
+  Keyframe keyframe = make_keyframe(key_pyramid, Pose::identity(), params.max_points_per_level);
+  device.upload_points(keyframe);
+  build_pyramid_reference(frames[11].colour, frames[11].depth_mm, camera.intrinsics(), params, map,
+                          current);
+  device.set_undistortion(map);
+  device.build_pyramid(frames[11].colour, frames[11].depth_mm, camera.intrinsics(), params);
+  // A pose near the motion of the 11 frames, so that residuals of every kind occur.
+  const Eigen::Matrix3f R =
+      Eigen::AngleAxisf(0.03f, Eigen::Vector3f(0.2f, 1.0f, 0.1f).normalized()).toRotationMatrix();
+  for (int level = 0; level < params.levels; ++level) {
+    const LevelCamera& c = keyframe.cameras[std::size_t(level)];
+    IterationParams p{};
+    for (int i = 0; i < 9; ++i) p.r[i] = R(i / 3, i % 3);
+    p.t[0] = 0.01f, p.t[1] = -0.005f, p.t[2] = 0.002f;
+    p.fx = c.fx, p.fy = c.fy, p.cx = c.cx, p.cy = c.cy;
+    p.inv_gain = 1.0f / 1.05f, p.bias = -3.0f;
+    p.inv_var_photo = 1.0f / 64.0f, p.inv_var_geo = 1.0f / 1e-4f, p.nu = 5.0f;
+    p.photo_inlier = 20.0f, p.geo_inlier = 0.04f, p.min_depth = 0.15f;
+    const NormalSums ref = accumulate_reference(keyframe.points[std::size_t(level)],
+                                                current.levels[std::size_t(level)], p);
+    const NormalSums dev = device.accumulate(keyframe, level, p);
+    ASSERT_GT(ref[kVisible], 100.0) << "level " << level;
+    ASSERT_GT(ref[kGeoCount], 100.0) << "level " << level;
+    for (int k = 0; k < kSumCount; ++k) {
+      // Counts agree but for points whose projection lands on a pixel boundary in one of the
+      // two float paths; sums to float precision of their size.
+      const double tolerance = 1e-3 * std::abs(ref[std::size_t(k)]) + 2e-3 * std::abs(ref[kG]) +
+                               (k >= kPhotoCount ? 2.0 : 1e-6 * std::abs(ref[kH]));
+      EXPECT_NEAR(dev[std::size_t(k)], ref[std::size_t(k)], tolerance)
+          << "level " << level << " sum " << k;
+    }
+  }
+}
+
+TEST(DenseTrackerDevice, TracksTumFramesLikeTheReference) {
+  PROBELESS_REQUIRE_DATA(testing::kTumRpy);
+  const auto frames = testing::read_tum_frames(40);
+  DenseTracker cpu(nullptr, testing::tum_fr1_camera());
+  DenseTracker gpu(&cl_context(), testing::tum_fr1_camera());
+  EXPECT_FALSE(cpu.uses_device());
+  EXPECT_TRUE(gpu.uses_device());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const auto& f = frames[i];
+    const TrackResult a = cpu.track(f.colour, f.depth_mm, f.timestamp_ns);
+    const TrackResult b = gpu.track(f.colour, f.depth_mm, f.timestamp_ns);
+    ASSERT_EQ(a.state, TrackingState::Tracking) << "frame " << i;
+    ASSERT_EQ(b.state, TrackingState::Tracking) << "frame " << i;
+    EXPECT_LT((a.T_world_camera.translation - b.T_world_camera.translation).norm(), 0.002)
+        << "frame " << i;
+    EXPECT_LT(a.T_world_camera.rotation.angularDistance(b.T_world_camera.rotation), 0.002)
+        << "frame " << i;
+    EXPECT_NEAR(a.inlier_fraction, b.inlier_fraction, 0.02) << "frame " << i;
+  }
+}
+
+TEST(DenseTrackerDevice, TracksFr1RpyWithoutLossBelowTheAteBound) {
+  PROBELESS_REQUIRE_DATA(testing::kTumRpy);
+  const auto frames = testing::read_tum_frames();
+  DenseTracker tracker(&cl_context(), testing::tum_fr1_camera());
+  const auto run = testing::run_tum(tracker, frames);
+  testing::print_tum_run("OpenCL device", frames.size(), run);
+  EXPECT_EQ(run.lost, 0);
+  EXPECT_LT(run.ate_m, 0.0198);  // as the CPU reference's test (tests/unit/tracking)
+}
+
+}  // namespace
+}  // namespace probeless::tracking
