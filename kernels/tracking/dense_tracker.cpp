@@ -190,6 +190,9 @@ DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeCamera& pinhole,
   if (params.levels < 1 || (camera.width >> (params.finest_level + params.levels - 1)) < 8 ||
       (camera.height >> (params.finest_level + params.levels - 1)) < 8)
     throw std::invalid_argument("tracking: the pyramid's coarsest level must be >= 8x8 pixels");
+  if (!(params.min_depth_m > 0.0f && params.max_depth_m > params.min_depth_m) ||
+      !(params.student_nu > 0.0f))
+    throw std::invalid_argument("tracking: needs 0 < min_depth_m < max_depth_m and student_nu > 0");
   if (params.max_keyframes < 1 || params.max_iterations < 1 || params.max_points_per_level < 16)
     throw std::invalid_argument("tracking: max_keyframes, max_iterations and points must be >0");
   impl_->ctx = ctx;

@@ -1,0 +1,160 @@
+// The CPU reference of the dense tracker on rendered scenes with known motion.
+#include "kernels/tracking/dense_tracker.hpp"
+
+#include <gtest/gtest.h>
+
+#include "unit/tracking/synthetic_scene.hpp"
+
+namespace probeless::tracking {
+namespace {
+
+using testing::pose_from;
+using testing::render_room;
+using testing::rotation_error_deg;
+
+const PinholeIntrinsics kCamera{640, 480, 525.0, 525.0, 319.5, 239.5};
+
+// The result of tracking `second` after `first` from a fresh tracker.
+TrackResult track_pair(const testing::RenderedFrame& first, const testing::RenderedFrame& second,
+                       DenseTrackerParams params = {}) {
+  DenseTracker tracker(nullptr, kCamera, params);
+  tracker.track(first.colour, first.depth_mm, 0);
+  return tracker.track(second.colour, second.depth_mm, ms_to_ns(33));
+}
+
+TEST(DenseTracker, IsOffBeforeTheFirstFrameAndStartsAtTheResetPose) {
+  DenseTracker tracker(nullptr, kCamera);
+  EXPECT_EQ(tracker.state(), TrackingState::Off);
+  EXPECT_FALSE(tracker.uses_device());
+  const Pose start = pose_from(0.1, -0.2, 0.3, 5, 0, 0);
+  tracker.reset(start);
+  const auto frame = render_room(kCamera, Pose::identity());
+  const TrackResult r = tracker.track(frame.colour, frame.depth_mm, 0);
+  EXPECT_EQ(r.state, TrackingState::Tracking);
+  EXPECT_TRUE(r.new_keyframe);
+  EXPECT_EQ(r.keyframes, 1);
+  EXPECT_LT((r.T_world_camera.translation - start.translation).norm(), 1e-12);
+  tracker.reset();
+  EXPECT_EQ(tracker.state(), TrackingState::Off);
+}
+
+TEST(DenseTracker, RecoversAKnownMotion) {
+  // 3 cm and 3 degrees about every axis: a fast hand-held frame step at 30 Hz.
+  const Pose motion = pose_from(0.03, -0.02, 0.025, 2.0, -3.0, 1.5);
+  const TrackResult r =
+      track_pair(render_room(kCamera, Pose::identity()), render_room(kCamera, motion));
+  ASSERT_EQ(r.state, TrackingState::Tracking);
+  EXPECT_LT((r.T_world_camera.translation - motion.translation).norm(), 0.002);
+  EXPECT_LT(rotation_error_deg(r.T_world_camera, motion), 0.05);
+  EXPECT_GT(r.inlier_fraction, 0.95);
+  EXPECT_NEAR(r.exposure_gain, 1.0, 0.02);
+}
+
+TEST(DenseTracker, FollowsAnExposureChange) {
+  // Auto exposure between frames: every grey level scaled and shifted.
+  const Pose motion = pose_from(0.02, 0.01, -0.01, -1.0, 2.0, 0.5);
+  auto second = render_room(kCamera, motion);
+  for (auto& v : second.colour.elements())
+    v = std::uint8_t(std::clamp(std::lround(1.3 * v - 20.0), 0L, 255L));
+  const TrackResult r = track_pair(render_room(kCamera, Pose::identity()), second);
+  ASSERT_EQ(r.state, TrackingState::Tracking);
+  EXPECT_LT((r.T_world_camera.translation - motion.translation).norm(), 0.003);
+  EXPECT_LT(rotation_error_deg(r.T_world_camera, motion), 0.1);
+  EXPECT_NEAR(r.exposure_gain, 1.3, 0.05);
+  EXPECT_NEAR(r.exposure_bias, -20.0, 5.0);
+}
+
+// A box in front of the room covering an eighth of the second frame, in colour and depth:
+// the Student-t weights must keep its residuals from pulling the pose.
+TEST(DenseTracker, StudentTWeightsDownWeightAnOccludingPatch) {
+  const Pose motion = pose_from(0.02, -0.015, 0.02, 1.5, -2.0, 1.0);
+  const auto first = render_room(kCamera, Pose::identity());
+  auto second = render_room(kCamera, motion);
+  for (int y = 140; y < 340; ++y)
+    for (int x = 300; x < 500; ++x) {
+      const auto g = std::uint8_t(40 + (x / 7 + y / 5) % 2 * 170);
+      second.colour.at(x, y, 0) = second.colour.at(x, y, 1) = second.colour.at(x, y, 2) = g;
+      second.depth_mm.at(x, y) = 900;
+    }
+  const TrackResult robust = track_pair(first, second);
+  ASSERT_EQ(robust.state, TrackingState::Tracking);
+  const double robust_t = (robust.T_world_camera.translation - motion.translation).norm();
+  const double robust_r = rotation_error_deg(robust.T_world_camera, motion);
+  EXPECT_LT(robust_t, 0.003);
+  EXPECT_LT(robust_r, 0.1);
+  EXPECT_LT(robust.inlier_fraction, 0.95);  // the patch's points are outliers
+
+  // Against the same problem with (nearly) Gaussian weights, the least-squares tracker.
+  DenseTrackerParams gaussian;
+  gaussian.student_nu = 1e6f;
+  const TrackResult plain = track_pair(first, second, gaussian);
+  const double plain_t = (plain.T_world_camera.translation - motion.translation).norm();
+  const double plain_r = rotation_error_deg(plain.T_world_camera, motion);
+  std::printf("occluding patch: Student-t %.2f mm %.3f deg, Gaussian %.2f mm %.3f deg\n",
+              robust_t * 1e3, robust_r, plain_t * 1e3, plain_r);
+  EXPECT_GT(plain_t + 0.01 * plain_r, 3 * (robust_t + 0.01 * robust_r));
+}
+
+TEST(DenseTracker, DetectsLossAndRelocalisesWhenTheViewReturns) {
+  DenseTracker tracker(nullptr, kCamera);
+  TimestampNs t = 0;
+  auto step = [&](const testing::RenderedFrame& f) {
+    t += ms_to_ns(33);
+    return tracker.track(f.colour, f.depth_mm, t);
+  };
+  const auto home = render_room(kCamera, Pose::identity());
+  ASSERT_EQ(step(home).state, TrackingState::Tracking);
+  const Pose moved = pose_from(0.01, 0.0, 0.01, 0.0, 1.0, 0.0);
+  ASSERT_EQ(step(render_room(kCamera, moved)).state, TrackingState::Tracking);
+
+  // Something else entirely: another texture on another room.
+  auto other = render_room(kCamera, pose_from(0.4, -0.3, -0.5, 0, 40, 10), 1);
+  const TrackResult lost = step(other);
+  EXPECT_EQ(lost.state, TrackingState::Lost);
+  EXPECT_LT(lost.inlier_fraction, 0.5);
+  EXPECT_EQ(tracker.state(), TrackingState::Lost);
+  EXPECT_EQ(step(other).state, TrackingState::Relocalising);
+
+  // Back near the first view: relocalised against a kept keyframe, at the right pose.
+  const Pose back = pose_from(0.005, 0.0, 0.0, 0.0, 0.5, 0.0);
+  const TrackResult found = step(render_room(kCamera, back));
+  ASSERT_EQ(found.state, TrackingState::Tracking);
+  EXPECT_TRUE(found.relocalised);
+  EXPECT_LT((found.T_world_camera.translation - back.translation).norm(), 0.003);
+  EXPECT_LT(rotation_error_deg(found.T_world_camera, back), 0.1);
+  // ... and keeps tracking from there.
+  const Pose next = pose_from(0.01, 0.0, 0.0, 0.0, 1.0, 0.0);
+  const TrackResult after = step(render_room(kCamera, next));
+  EXPECT_EQ(after.state, TrackingState::Tracking);
+  EXPECT_FALSE(after.relocalised);
+  EXPECT_LT((after.T_world_camera.translation - next.translation).norm(), 0.003);
+}
+
+TEST(DenseTracker, RejectsFramesOfAnotherSize) {
+  DenseTracker tracker(nullptr, kCamera);
+  const auto frame = render_room(kCamera, Pose::identity());
+  EXPECT_THROW(tracker.track(ImageRGB8(320, 240), frame.depth_mm, 0), std::invalid_argument);
+  EXPECT_THROW(tracker.track(frame.colour, DepthImage(640, 479), 0), std::invalid_argument);
+  EXPECT_EQ(tracker.state(), TrackingState::Off);  // a rejected frame changes nothing
+}
+
+TEST(DenseTracker, RejectsParametersItCannotRun) {
+  auto with = [](auto change) {
+    DenseTrackerParams p;
+    change(p);
+    return p;
+  };
+  EXPECT_THROW(DenseTracker(nullptr, kCamera, with([](auto& p) { p.finest_level = 2; })),
+               std::invalid_argument);
+  EXPECT_THROW(DenseTracker(nullptr, kCamera, with([](auto& p) { p.levels = 0; })),
+               std::invalid_argument);
+  EXPECT_THROW(DenseTracker(nullptr, kCamera, with([](auto& p) { p.levels = 7; })),
+               std::invalid_argument);  // 640 / 2^7 = 5 pixels: too small to align
+  EXPECT_THROW(DenseTracker(nullptr, kCamera, with([](auto& p) { p.max_keyframes = 0; })),
+               std::invalid_argument);
+  EXPECT_THROW(DenseTracker(nullptr, kCamera, with([](auto& p) { p.min_depth_m = 5.0f; })),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace probeless::tracking
