@@ -55,72 +55,94 @@ float block_depth(const float* d, int n) {
 
 namespace {
 
-float metres(std::uint16_t mm, const DenseTrackerParams& p) {
+float metres(std::uint16_t mm, float min_m, float max_m) {
   const float z = float(mm) * 0.001f;
-  return z >= p.min_depth_m && z <= p.max_depth_m ? z : 0.0f;
+  return z >= min_m && z <= max_m ? z : 0.0f;
+}
+
+// Frames keep their size: the level images are reused, not reallocated, per frame.
+void ensure_size(FrameLevel& level) {
+  const int w = level.camera.width, h = level.camera.height;
+  if (level.intensity.width() != w || level.intensity.height() != h) {
+    level.intensity = ImageF(w, h);
+    level.depth_m = ImageF(w, h);
+  }
 }
 
 // The finest level straight from the frame: grey and metres, 2x2-averaged when factor is 2.
 void finest_level(const ImageRGB8& colour, const DepthImage& depth_mm, int factor,
                   const DenseTrackerParams& p, FrameLevel& out) {
+  ensure_size(out);
   const int w = out.camera.width, h = out.camera.height;
-  out.intensity = ImageF(w, h);
-  out.depth_m = ImageF(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      if (factor == 1) {
-        out.intensity.at(x, y) = luma(&colour.at(x, y));
-        out.depth_m.at(x, y) = metres(depth_mm.at(x, y), p);
-        continue;
+  const float lo = p.min_depth_m, hi = p.max_depth_m;
+  for (int y = 0; y < h; ++y) {
+    float* grey = out.intensity.row(y);
+    float* depth = out.depth_m.row(y);
+    if (factor == 1) {
+      const std::uint8_t* c = colour.row(y);
+      const std::uint16_t* d = depth_mm.row(y);
+      for (int x = 0; x < w; ++x) {
+        grey[x] = luma(c + 3 * x);
+        depth[x] = metres(d[x], lo, hi);
       }
-      const int x0 = 2 * x, y0 = 2 * y;
-      out.intensity.at(x, y) =
-          0.25f * (luma(&colour.at(x0, y0)) + luma(&colour.at(x0 + 1, y0)) +
-                   luma(&colour.at(x0, y0 + 1)) + luma(&colour.at(x0 + 1, y0 + 1)));
-      const float d[4] = {metres(depth_mm.at(x0, y0), p), metres(depth_mm.at(x0 + 1, y0), p),
-                          metres(depth_mm.at(x0, y0 + 1), p),
-                          metres(depth_mm.at(x0 + 1, y0 + 1), p)};
-      out.depth_m.at(x, y) = block_depth(d, 4);
+      continue;
     }
+    const std::uint8_t *c0 = colour.row(2 * y), *c1 = colour.row(2 * y + 1);
+    const std::uint16_t *d0 = depth_mm.row(2 * y), *d1 = depth_mm.row(2 * y + 1);
+    for (int x = 0; x < w; ++x) {
+      const int s = 2 * x;
+      grey[x] = 0.25f * (luma(c0 + 3 * s) + luma(c0 + 3 * (s + 1)) + luma(c1 + 3 * s) +
+                         luma(c1 + 3 * (s + 1)));
+      const float d[4] = {metres(d0[s], lo, hi), metres(d0[s + 1], lo, hi), metres(d1[s], lo, hi),
+                          metres(d1[s + 1], lo, hi)};
+      depth[x] = block_depth(d, 4);
+    }
+  }
 }
 
-// Intensity bilinear (clamped at the border), depth from the nearest pixel (interpolating
-// depth across an edge would invent surfaces); outside the distorted image: no depth.
-void undistort_level(const std::vector<float>& map, FrameLevel& level) {
-  const int w = level.camera.width, h = level.camera.height;
-  const ImageF intensity = level.intensity, depth = level.depth_m;
-  for (int y = 0; y < h; ++y)
+// Intensity bilinear, depth from the nearest pixel (interpolating depth across an edge would
+// invent surfaces); where the map leaves the distorted image: its own grey, no depth.
+void undistort_level(const std::vector<float>& map, const FrameLevel& in, FrameLevel& out) {
+  const int w = out.camera.width, h = out.camera.height;
+  const float* grey = in.intensity.data();
+  const float* depth = in.depth_m.data();
+  for (int y = 0; y < h; ++y) {
+    float* out_grey = out.intensity.row(y);
+    float* out_depth = out.depth_m.row(y);
+    const float* m = map.data() + 2 * std::size_t(y) * std::size_t(w);
     for (int x = 0; x < w; ++x) {
-      const std::size_t i = std::size_t(y) * std::size_t(w) + std::size_t(x);
-      const float u = map[2 * i], v = map[2 * i + 1];
+      const float u = m[2 * x], v = m[2 * x + 1];
       if (!(u >= 0.0f && v >= 0.0f && u <= float(w - 1) && v <= float(h - 1))) {
-        level.intensity.at(x, y) = intensity.at(x, y);
-        level.depth_m.at(x, y) = 0.0f;
+        out_grey[x] = grey[y * w + x];
+        out_depth[x] = 0.0f;
         continue;
       }
       const int x0 = std::min(int(u), w - 2), y0 = std::min(int(v), h - 2);
       const float ax = u - float(x0), ay = v - float(y0);
-      level.intensity.at(x, y) =
-          (1.0f - ay) * ((1.0f - ax) * intensity.at(x0, y0) + ax * intensity.at(x0 + 1, y0)) +
-          ay * ((1.0f - ax) * intensity.at(x0, y0 + 1) + ax * intensity.at(x0 + 1, y0 + 1));
-      level.depth_m.at(x, y) = depth.at(int(u + 0.5f), int(v + 0.5f));
+      const float* r0 = grey + y0 * w + x0;
+      const float* r1 = r0 + w;
+      out_grey[x] = (1.0f - ay) * ((1.0f - ax) * r0[0] + ax * r0[1]) +
+                    ay * ((1.0f - ax) * r1[0] + ax * r1[1]);
+      out_depth[x] = depth[int(v + 0.5f) * w + int(u + 0.5f)];
     }
+  }
 }
 
 void halve(const FrameLevel& in, FrameLevel& out) {
+  ensure_size(out);
   const int w = out.camera.width, h = out.camera.height;
-  out.intensity = ImageF(w, h);
-  out.depth_m = ImageF(w, h);
-  for (int y = 0; y < h; ++y)
+  for (int y = 0; y < h; ++y) {
+    const float *g0 = in.intensity.row(2 * y), *g1 = in.intensity.row(2 * y + 1);
+    const float *d0 = in.depth_m.row(2 * y), *d1 = in.depth_m.row(2 * y + 1);
+    float* grey = out.intensity.row(y);
+    float* depth = out.depth_m.row(y);
     for (int x = 0; x < w; ++x) {
-      const int x0 = 2 * x, y0 = 2 * y;
-      out.intensity.at(x, y) =
-          0.25f * (in.intensity.at(x0, y0) + in.intensity.at(x0 + 1, y0) +
-                   in.intensity.at(x0, y0 + 1) + in.intensity.at(x0 + 1, y0 + 1));
-      const float d[4] = {in.depth_m.at(x0, y0), in.depth_m.at(x0 + 1, y0),
-                          in.depth_m.at(x0, y0 + 1), in.depth_m.at(x0 + 1, y0 + 1)};
-      out.depth_m.at(x, y) = block_depth(d, 4);
+      const int s = 2 * x;
+      grey[x] = 0.25f * (g0[s] + g0[s + 1] + g1[s] + g1[s + 1]);
+      const float d[4] = {d0[s], d0[s + 1], d1[s], d1[s + 1]};
+      depth[x] = block_depth(d, 4);
     }
+  }
 }
 
 }  // namespace
@@ -131,8 +153,15 @@ void build_pyramid_reference(const ImageRGB8& colour, const DepthImage& depth_mm
   pyramid.levels.resize(std::size_t(params.levels));
   for (int i = 0; i < params.levels; ++i)
     pyramid.levels[std::size_t(i)].camera = level_camera(camera, params.finest_level + i);
-  finest_level(colour, depth_mm, params.finest_level == 0 ? 1 : 2, params, pyramid.levels[0]);
-  if (!undistort.empty()) undistort_level(undistort, pyramid.levels[0]);
+  const int factor = params.finest_level == 0 ? 1 : 2;
+  if (undistort.empty()) {
+    finest_level(colour, depth_mm, factor, params, pyramid.levels[0]);
+  } else {
+    pyramid.distorted.camera = pyramid.levels[0].camera;
+    finest_level(colour, depth_mm, factor, params, pyramid.distorted);
+    ensure_size(pyramid.levels[0]);
+    undistort_level(undistort, pyramid.distorted, pyramid.levels[0]);
+  }
   for (std::size_t i = 1; i < pyramid.levels.size(); ++i)
     halve(pyramid.levels[i - 1], pyramid.levels[i]);
 }

@@ -28,6 +28,7 @@ struct FrameLevel {
 // levels[i] is pyramid level finest_level + i.
 struct FramePyramid {
   std::vector<FrameLevel> levels;
+  FrameLevel distorted;  // scratch: the finest level before undistortion
 };
 
 // BT.601 luma of an 8-bit colour pixel (the grey the tracker aligns).

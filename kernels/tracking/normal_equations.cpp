@@ -5,12 +5,15 @@
 namespace probeless::tracking {
 namespace {
 
-void add_residual(NormalSums& s, const float* j, float r, float weight) {
+// Points are summed in float in chunks as the device's work-items do, the chunks in double.
+constexpr std::size_t kChunk = 64;
+
+void add_residual(float* s, const float* j, float r, float weight) {
   int k = kH;
   for (int a = 0; a < 6; ++a) {
     const float wa = weight * j[a];
-    for (int b = a; b < 6; ++b) s[std::size_t(k++)] += double(wa * j[b]);
-    s[std::size_t(kG + a)] += double(wa * r);
+    for (int b = a; b < 6; ++b) s[k++] += wa * j[b];
+    s[kG + a] += wa * r;
   }
 }
 
@@ -26,30 +29,38 @@ float bilinear(const ImageF& img, float u, float v) {
 
 NormalSums accumulate_reference(const std::vector<TrackPoint>& points, const FrameLevel& frame,
                                 const IterationParams& p) {
-  NormalSums s{};
+  NormalSums total{};
+  float s[kSumCount] = {};
   const int w = frame.camera.width, h = frame.camera.height;
-  for (const TrackPoint& pt : points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (i % kChunk == 0) {
+      for (int k = 0; k < kSumCount; ++k) {
+        total[std::size_t(k)] += double(s[k]);
+        s[k] = 0.0f;
+      }
+    }
+    const TrackPoint& pt = points[i];
     const float X = p.r[0] * pt.x + p.r[1] * pt.y + p.r[2] * pt.z + p.t[0];
     const float Y = p.r[3] * pt.x + p.r[4] * pt.y + p.r[5] * pt.z + p.t[1];
     const float Z = p.r[6] * pt.x + p.r[7] * pt.y + p.r[8] * pt.z + p.t[2];
     if (!(Z >= p.min_depth)) continue;
     const float u = p.fx * X / Z + p.cx, v = p.fy * Y / Z + p.cy;
     if (!(u >= 0.0f && v >= 0.0f && u < float(w - 1) && v < float(h - 1))) continue;
-    s[kVisible] += 1.0;
+    s[kVisible] += 1.0f;
     bool inlier = true;
 
     const float current = bilinear(frame.intensity, u, v);
     const float rp = (current - p.bias) * p.inv_gain - pt.intensity;
     const float tp = (p.nu + 1.0f) / (p.nu + rp * rp * p.inv_var_photo);
     add_residual(s, pt.j_photo, rp, tp * p.inv_var_photo);
-    s[kPhotoCount] += 1.0;
-    s[kPhotoWeightedSq] += double(tp * rp * rp);
-    s[kPhotoSq] += double(rp * rp);
-    s[kAffineW] += double(tp);
-    s[kAffineX] += double(tp * pt.intensity);
-    s[kAffineY] += double(tp * current);
-    s[kAffineXX] += double(tp * pt.intensity * pt.intensity);
-    s[kAffineYY] += double(tp * current * current);
+    s[kPhotoCount] += 1.0f;
+    s[kPhotoWeightedSq] += tp * rp * rp;
+    s[kPhotoSq] += rp * rp;
+    s[kAffineW] += tp;
+    s[kAffineX] += tp * pt.intensity;
+    s[kAffineY] += tp * current;
+    s[kAffineXX] += tp * pt.intensity * pt.intensity;
+    s[kAffineYY] += tp * current * current;
     inlier = std::abs(rp) <= p.photo_inlier;
 
     if (pt.has_normal > 0.0f) {
@@ -66,15 +77,16 @@ NormalSums accumulate_reference(const std::vector<TrackPoint>& points, const Fra
         const float rg = (nx * qx + ny * qy + nz * qz) * pt.inv_z2;
         const float tg = (p.nu + 1.0f) / (p.nu + rg * rg * p.inv_var_geo);
         add_residual(s, pt.j_geo, rg, tg * p.inv_var_geo);
-        s[kGeoCount] += 1.0;
-        s[kGeoWeightedSq] += double(tg * rg * rg);
-        s[kGeoSq] += double(rg * rg);
+        s[kGeoCount] += 1.0f;
+        s[kGeoWeightedSq] += tg * rg * rg;
+        s[kGeoSq] += rg * rg;
         inlier = inlier && std::abs(rg) <= p.geo_inlier;
       }
     }
-    if (inlier) s[kInliers] += 1.0;
+    if (inlier) s[kInliers] += 1.0f;
   }
-  return s;
+  for (int k = 0; k < kSumCount; ++k) total[std::size_t(k)] += double(s[k]);
+  return total;
 }
 
 }  // namespace probeless::tracking
