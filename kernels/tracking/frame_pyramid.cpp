@@ -91,8 +91,11 @@ void finest_level(const ImageRGB8& colour, const DepthImage& depth_mm, int facto
     const std::uint16_t *d0 = depth_mm.row(2 * y), *d1 = depth_mm.row(2 * y + 1);
     for (int x = 0; x < w; ++x) {
       const int s = 2 * x;
-      grey[x] = 0.25f * (luma(c0 + 3 * s) + luma(c0 + 3 * (s + 1)) + luma(c1 + 3 * s) +
-                         luma(c1 + 3 * (s + 1)));
+      // The luma of the 2x2 sum of each channel (integers, exact), then the average.
+      const std::uint8_t *a = c0 + 3 * s, *b = c1 + 3 * s;
+      const int r = a[0] + a[3] + b[0] + b[3], g = a[1] + a[4] + b[1] + b[4],
+                bl = a[2] + a[5] + b[2] + b[5];
+      grey[x] = 0.25f * (0.299f * float(r) + 0.587f * float(g) + 0.114f * float(bl));
       const float d[4] = {metres(d0[s], lo, hi), metres(d0[s + 1], lo, hi), metres(d1[s], lo, hi),
                           metres(d1[s + 1], lo, hi)};
       depth[x] = block_depth(d, 4);

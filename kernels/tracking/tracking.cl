@@ -73,15 +73,17 @@ __kernel void finest_level(__global const uchar* colour, __global const ushort* 
     return;
   }
   const int s = 2 * y * frame_width + 2 * x;
-  intensity[i] =
-      0.25f * (luma(colour + 3 * s) + luma(colour + 3 * (s + 1)) +
-               luma(colour + 3 * (s + frame_width)) + luma(colour + 3 * (s + frame_width + 1)));
+  __global const uchar* a = colour + 3 * s;
+  __global const uchar* b = colour + 3 * (s + frame_width);
+  const int r = a[0] + a[3] + b[0] + b[3], g = a[1] + a[4] + b[1] + b[4],
+            bl = a[2] + a[5] + b[2] + b[5];
+  intensity[i] = 0.25f * (0.299f * (float)r + 0.587f * (float)g + 0.114f * (float)bl);
   depth_m[i] = block_depth(metres(depth_mm[s], min_m, max_m), metres(depth_mm[s + 1], min_m, max_m),
                            metres(depth_mm[s + frame_width], min_m, max_m),
                            metres(depth_mm[s + frame_width + 1], min_m, max_m));
 }
 
-// frame_pyramid.cpp undistort_level: intensity bilinear (clamped outside), depth nearest.
+// frame_pyramid.cpp undistort_level: intensity bilinear, depth nearest; outside: no depth.
 __kernel void undistort(__global const float* in_intensity, __global const float* in_depth,
                         __global const float* map, __global float* intensity,
                         __global float* depth_m, int width, int height) {
