@@ -46,7 +46,7 @@ struct DenseTrackerParams {
   float geometric_inlier_m = 0.04f;
   // Lost when fewer keyframe points land inside the frame, or fewer of them are inliers.
   float min_visible_fraction = 0.3f;
-  float min_inlier_fraction = 0.5f;
+  float min_inlier_fraction = 0.4f;
 
   // A new keyframe when the current one is seen less or moved away (translation, rotation).
   float keyframe_min_visible = 0.7f;

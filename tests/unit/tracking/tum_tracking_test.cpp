@@ -1,6 +1,8 @@
 // The tracker on 150 real frames of TUM fr1/rpy (Kinect v1, motion capture ground truth).
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "kernels/tracking/dense_tracker.hpp"
 #include "unit/tracking/tum_frames.hpp"
 
@@ -22,6 +24,33 @@ TEST(DenseTrackerTum, TracksFr1RpyWithoutLossBelowTheAteBound) {
   EXPECT_EQ(run.lost, 0);
   EXPECT_LT(run.ate_m, kAteBoundM);
   EXPECT_GT(run.keyframes, 1);  // rpy turns by tens of degrees: keyframes must switch
+}
+
+// Real frames for the loss test: the view turned upside down (same sensor, same statistics,
+// another view) is lost, and the tracker relocalises when the real view returns.
+TEST(DenseTrackerTum, LosesAnUnrelatedViewAndRelocalisesOnTheNextRealOne) {
+  PROBELESS_REQUIRE_DATA(testing::kTumRpy);
+  const auto frames = testing::read_tum_frames(6);
+  DenseTracker tracker(nullptr, testing::tum_fr1_camera());
+  for (int i = 0; i < 3; ++i)
+    ASSERT_EQ(
+        tracker.track(frames[std::size_t(i)].colour, frames[std::size_t(i)].depth_mm, 0).state,
+        TrackingState::Tracking);
+  auto upside_down = frames[3];
+  std::reverse(upside_down.depth_mm.elements().begin(), upside_down.depth_mm.elements().end());
+  const auto c = upside_down.colour.elements();
+  for (std::size_t a = 0, b = c.size() - 3; a < b; a += 3, b -= 3)
+    for (int k = 0; k < 3; ++k) std::swap(c[a + std::size_t(k)], c[b + std::size_t(k)]);
+  const TrackResult lost = tracker.track(upside_down.colour, upside_down.depth_mm, 0);
+  std::printf("upside-down frame: inliers %.3f, visible %.3f, residual %.1f\n",
+              lost.inlier_fraction, lost.visible_fraction, lost.residual_rms);
+  EXPECT_EQ(lost.state, TrackingState::Lost);
+  const TrackResult back = tracker.track(frames[4].colour, frames[4].depth_mm, 0);
+  EXPECT_EQ(back.state, TrackingState::Tracking);
+  EXPECT_TRUE(back.relocalised);
+  ASSERT_TRUE(frames[4].truth && frames[0].truth);
+  const Pose truth = frames[0].truth->inverse() * *frames[4].truth;
+  EXPECT_LT((back.T_world_camera.translation - truth.translation).norm(), 0.01);
 }
 
 }  // namespace
