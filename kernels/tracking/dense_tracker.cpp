@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <deque>
 #include <optional>
 #include <stdexcept>
@@ -96,6 +97,10 @@ struct DenseTracker::Impl {
                                 p);
   }
 
+  bool beyond_keyframe(const Pose& T_keyframe_camera) const {
+    return T_keyframe_camera.translation.norm() > params.keyframe_max_translation_m ||
+           rotation_deg(T_keyframe_camera) > params.keyframe_max_rotation_deg;
+  }
   Alignment align(Keyframe& kf, const Pose& T_init, double gain0, double bias0);
   bool accept(const Alignment& a) const {
     return a.visible_fraction >= params.min_visible_fraction &&
@@ -214,6 +219,8 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
       depth_mm.height() != k.height)
     throw std::invalid_argument("tracking: frame size differs from the colour camera's");
   TrackResult r;
+  const Pose predicted =
+      m.params.constant_velocity ? m.T_world_last * m.last_motion : m.T_world_last;
   auto t0 = std::chrono::steady_clock::now();
   m.build_pyramid(colour, depth_mm);
   r.pyramid_ms = ms_since(t0);
@@ -238,9 +245,14 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
   Keyframe* reference = nullptr;
   if (m.state == TrackingState::Tracking) {
     reference = &m.keyframes.back();
-    const Pose predicted =
-        m.params.constant_velocity ? m.T_world_last * m.last_motion : m.T_world_last;
     a = m.align(*reference, predicted.inverse() * reference->T_world_keyframe, m.gain, m.bias);
+    if (!a.accepted && m.params.constant_velocity) {
+      // The camera may have stopped or turned back: start again from the last pose.
+      const int before = a.iterations;
+      a = m.align(*reference, m.T_world_last.inverse() * reference->T_world_keyframe, m.gain,
+                  m.bias);
+      a.iterations += before;
+    }
   } else {
     // Lost: try every kept keyframe from the newest, starting at its own view.
     for (auto it = m.keyframes.rbegin(); it != m.keyframes.rend(); ++it) {
@@ -284,10 +296,8 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
     m.keyframes.push_back(std::move(kf));
   }
 
-  const Pose T_kf_cur = a.T_current_keyframe.inverse();
   if (a.visible_fraction < m.params.keyframe_min_visible ||
-      T_kf_cur.translation.norm() > m.params.keyframe_max_translation_m ||
-      rotation_deg(T_kf_cur) > m.params.keyframe_max_rotation_deg) {
+      m.beyond_keyframe(a.T_current_keyframe.inverse())) {
     t0 = std::chrono::steady_clock::now();
     m.make_current_keyframe(T_world_camera);
     r.keyframe_ms = ms_since(t0);
