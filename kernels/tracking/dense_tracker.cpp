@@ -69,7 +69,7 @@ struct DenseTracker::Impl {
   Pose origin;
   TrackingState state = TrackingState::Off;
 
-  FramePyramid current;            // host pyramid (CPU path; device path: only for new keyframes)
+  FramePyramid current;            // the CPU path's pyramid (the device path's stays on the device)
   std::deque<Keyframe> keyframes;  // back() is the reference
   Pose T_world_last;
   Pose last_motion;  // T_prev_cur of the last tracked pair
@@ -83,9 +83,9 @@ struct DenseTracker::Impl {
   }
 
   void make_current_keyframe(const Pose& T_world_camera) {
-    if (device) device->download_pyramid(current);
-    keyframes.push_back(make_keyframe(current, T_world_camera, params.max_points_per_level));
-    if (device) device->upload_points(keyframes.back());
+    keyframes.push_back(device
+                            ? device->make_keyframe(T_world_camera, params.max_points_per_level)
+                            : make_keyframe(current, T_world_camera, params.max_points_per_level));
     while (int(keyframes.size()) > params.max_keyframes) keyframes.pop_front();
     gain = 1;
     bias = 0;

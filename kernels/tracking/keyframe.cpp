@@ -56,6 +56,7 @@ TrackPoint make_point(const FrameLevel& f, int x, int y, float gx, float gy) {
     t.j_photo[3 + i] = jw[i];
   }
   t.inv_z2 = 1.0f / (z * z);
+  t.valid = 1.0f;
   Eigen::Vector3f n;
   if (normal_at(f, x, y, n)) {
     t.nx = n.x();
@@ -77,9 +78,7 @@ std::vector<TrackPoint> select_points(const FrameLevel& f, int max_points) {
   const int w = f.camera.width, h = f.camera.height;
   std::vector<TrackPoint> points;
   if (w < 3 || h < 3) return points;
-  // At least 2x2 blocks: coarse levels only start the finer ones, they need no more points.
-  const int block =
-      std::max(2, int(std::ceil(std::sqrt(double(w) * h / double(std::max(1, max_points))))));
+  const int block = point_block_size(w, h, max_points);
   points.reserve(std::size_t((w / block + 1) * (h / block + 1)));
   for (int by = 1; by < h - 1; by += block)
     for (int bx = 1; bx < w - 1; bx += block) {
@@ -105,6 +104,12 @@ std::vector<TrackPoint> select_points(const FrameLevel& f, int max_points) {
 }
 
 }  // namespace
+
+int point_block_size(int width, int height, int max_points) {
+  // At least 2x2 blocks: coarse levels only start the finer ones, they need no more points.
+  return std::max(
+      2, int(std::ceil(std::sqrt(double(width) * height / double(std::max(1, max_points))))));
+}
 
 Keyframe make_keyframe(const FramePyramid& pyramid, const Pose& T_world_keyframe,
                        int max_points_per_level) {

@@ -10,7 +10,7 @@
 
 namespace probeless::tracking {
 
-// 24 floats, the layout the device kernel reads (tracking.cl, PT_* offsets).
+// 24 floats, the layout the device kernels read and write (tracking.cl).
 struct TrackPoint {
   float x, y, z;     // keyframe camera coordinates, metres
   float intensity;   // grey level on the keyframe
@@ -19,7 +19,8 @@ struct TrackPoint {
   float j_photo[6];  // d(I_kf(pi(exp(xi) P))) / d xi at xi = 0, xi = (v, w)
   float j_geo[6];    // -[n, P x n] / z^2 (the depth residual's Jacobian, noise-scaled)
   float inv_z2;      // 1 / z^2: Kinect depth noise grows with z^2 (Khoshelham 2012)
-  float pad[3];
+  float valid;       // 1: a point (the device selection leaves 0 where a block has none)
+  float pad[2];
 };
 static_assert(sizeof(TrackPoint) == 24 * sizeof(float));
 
@@ -29,6 +30,9 @@ struct Keyframe {
   std::vector<std::vector<TrackPoint>> points;  // per level
   std::vector<::cl::Buffer> device_points;      // per level, filled by the device path
 };
+
+// The side of the blocks that each give one point, for a level of width x height.
+int point_block_size(int width, int height, int max_points);
 
 // Chooses and precomputes the points of every level (CPU; once per keyframe).
 Keyframe make_keyframe(const FramePyramid& pyramid, const Pose& T_world_keyframe,

@@ -197,3 +197,89 @@ __kernel __attribute__((reqd_work_group_size(LOCAL, 1, 1))) void accumulate_norm
     partial[get_group_id(0) * SUMS + lid] = total;
   }
 }
+
+// keyframe.cpp select_points + make_point: one work-item per block writes its point (the
+// pixel of largest gradient with depth) into points[block], valid = 0 when it has none.
+#define NORMAL_MAX_DEPTH_STEP 0.1f
+#define NORMAL_MIN_COS 0.2f
+
+inline float3 backproject(float x, float y, float z, float4 k) {
+  return (float3)((x - k.z) / k.x * z, (y - k.w) / k.y * z, z);
+}
+
+__kernel void select_points(__global const float* intensity, __global const float* depth_m,
+                            int width, int height, float4 k /* fx fy cx cy */, int block,
+                            int blocks_x, int blocks_y, __global float* points) {
+  const int b = get_global_id(0);
+  if (b >= blocks_x * blocks_y) return;
+  const int bx = 1 + (b % blocks_x) * block, by = 1 + (b / blocks_x) * block;
+  __global float* out = points + b * PT_STRIDE;
+  for (int i = 0; i < PT_STRIDE; ++i) out[i] = 0.0f;
+  int best_x = -1, best_y = -1;
+  float best_g2 = -1.0f, best_gx = 0.0f, best_gy = 0.0f;
+  for (int y = by; y < min(by + block, height - 1); ++y)
+    for (int x = bx; x < min(bx + block, width - 1); ++x) {
+      const int i = y * width + x;
+      if (!(depth_m[i] > 0.0f)) continue;
+      const float gx = 0.5f * (intensity[i + 1] - intensity[i - 1]);
+      const float gy = 0.5f * (intensity[i + width] - intensity[i - width]);
+      const float g2 = gx * gx + gy * gy;
+      if (g2 > best_g2) {
+        best_g2 = g2;
+        best_x = x;
+        best_y = y;
+        best_gx = gx;
+        best_gy = gy;
+      }
+    }
+  if (best_x < 0) return;
+  const int i = best_y * width + best_x;
+  const float z = depth_m[i];
+  const float3 p = backproject((float)best_x, (float)best_y, z, k);
+  out[0] = p.x;
+  out[1] = p.y;
+  out[2] = p.z;
+  out[3] = intensity[i];
+  const float jx = best_gx * k.x / z, jy = best_gy * k.y / z;
+  const float3 jv = (float3)(jx, jy, -(jx * p.x + jy * p.y) / z);
+  const float3 jw = cross(p, jv);
+  out[8] = jv.x;
+  out[9] = jv.y;
+  out[10] = jv.z;
+  out[11] = jw.x;
+  out[12] = jw.y;
+  out[13] = jw.z;
+  const float inv_z2 = 1.0f / (z * z);
+  out[20] = inv_z2;
+  out[21] = 1.0f;
+
+  const float zl = depth_m[i - 1], zr = depth_m[i + 1], zu = depth_m[i - width],
+              zd = depth_m[i + width];
+  const float step = NORMAL_MAX_DEPTH_STEP * z;
+  if (!(zl > 0.0f) || fabs(zl - z) > step || !(zr > 0.0f) || fabs(zr - z) > step ||
+      !(zu > 0.0f) || fabs(zu - z) > step || !(zd > 0.0f) || fabs(zd - z) > step)
+    return;
+  const float3 dx = backproject((float)(best_x + 1), (float)best_y, zr, k) -
+                    backproject((float)(best_x - 1), (float)best_y, zl, k);
+  const float3 dy = backproject((float)best_x, (float)(best_y + 1), zd, k) -
+                    backproject((float)best_x, (float)(best_y - 1), zu, k);
+  float3 n = cross(dx, dy);
+  const float len = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
+  if (!(len > 0.0f)) return;
+  n /= len;
+  const float cosine = (n.x * p.x + n.y * p.y + n.z * p.z) /
+                       sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+  if (cosine > 0.0f) n = -n;
+  if (!(fabs(cosine) >= NORMAL_MIN_COS)) return;
+  const float3 pn = cross(p, n);
+  out[4] = n.x;
+  out[5] = n.y;
+  out[6] = n.z;
+  out[7] = 1.0f;
+  out[14] = -n.x * inv_z2;
+  out[15] = -n.y * inv_z2;
+  out[16] = -n.z * inv_z2;
+  out[17] = -pn.x * inv_z2;
+  out[18] = -pn.y * inv_z2;
+  out[19] = -pn.z * inv_z2;
+}

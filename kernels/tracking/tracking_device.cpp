@@ -24,6 +24,7 @@ TrackingDevice::TrackingDevice(ComputeContext& ctx)
       halve_(ctx.kernel("tracking", cl_source::tracking, kOptions, "halve")),
       accumulate_(
           ctx.kernel("tracking", cl_source::tracking, kOptions, "accumulate_normal_equations")),
+      select_(ctx.kernel("tracking", cl_source::tracking, kOptions, "select_points")),
       partial_(ctx.context(), CL_MEM_WRITE_ONLY, sizeof(float) * kSumCount * kMaxGroups),
       partial_host_(std::size_t(kSumCount * kMaxGroups)) {}
 
@@ -102,6 +103,42 @@ void TrackingDevice::download_pyramid(FramePyramid& pyramid) {
     levels_[i].intensity.download(ctx_.queue(), pyramid.levels[i].intensity);
     levels_[i].depth_m.download(ctx_.queue(), pyramid.levels[i].depth_m);
   }
+}
+
+Keyframe TrackingDevice::make_keyframe(const Pose& T_world_keyframe, int max_points_per_level) {
+  Keyframe keyframe;
+  keyframe.T_world_keyframe = T_world_keyframe;
+  auto& q = ctx_.queue();
+  for (const Level& l : levels_) {
+    keyframe.cameras.push_back(l.camera);
+    auto& points = keyframe.points.emplace_back();
+    const int w = l.camera.width, h = l.camera.height;
+    if (w < 3 || h < 3) continue;
+    const int block = point_block_size(w, h, max_points_per_level);
+    const int blocks_x = (w - 2 + block - 1) / block, blocks_y = (h - 2 + block - 1) / block;
+    const auto blocks = std::size_t(blocks_x) * std::size_t(blocks_y);
+    if (blocks > slots_capacity_) {
+      slots_ = ::cl::Buffer(ctx_.context(), CL_MEM_READ_WRITE, sizeof(TrackPoint) * blocks);
+      slots_capacity_ = blocks;
+    }
+    select_.setArg(0, l.intensity.buffer());
+    select_.setArg(1, l.depth_m.buffer());
+    select_.setArg(2, w);
+    select_.setArg(3, h);
+    select_.setArg(4, cl_float4{{l.camera.fx, l.camera.fy, l.camera.cx, l.camera.cy}});
+    select_.setArg(5, block);
+    select_.setArg(6, blocks_x);
+    select_.setArg(7, blocks_y);
+    select_.setArg(8, slots_);
+    q.enqueueNDRangeKernel(select_, ::cl::NullRange, ::cl::NDRange(round_up(blocks, kLocal)),
+                           ::cl::NullRange);
+    slots_host_.resize(blocks);
+    q.enqueueReadBuffer(slots_, CL_TRUE, 0, sizeof(TrackPoint) * blocks, slots_host_.data());
+    for (const TrackPoint& p : slots_host_)
+      if (p.valid > 0.0f) points.push_back(p);
+  }
+  upload_points(keyframe);
+  return keyframe;
 }
 
 void TrackingDevice::upload_points(Keyframe& keyframe) {

@@ -26,6 +26,9 @@ class TrackingDevice {
                      const PinholeIntrinsics& camera, const DenseTrackerParams& params);
   // The last built pyramid on the host (when the frame becomes a keyframe, and for tests).
   void download_pyramid(FramePyramid& pyramid);
+  // The last built pyramid as a keyframe: points chosen and precomputed on the device (the
+  // twin of make_keyframe()), compacted on the host and uploaded.
+  Keyframe make_keyframe(const Pose& T_world_keyframe, int max_points_per_level);
   // Copies the keyframe's points to the device once (no-op when already there).
   void upload_points(Keyframe& keyframe);
   // One iteration's sums at `level` of the last built pyramid.
@@ -37,7 +40,10 @@ class TrackingDevice {
     DeviceImage<float, 1> intensity, depth_m;
   };
   ComputeContext& ctx_;
-  ::cl::Kernel finest_, undistort_, halve_, accumulate_;
+  ::cl::Kernel finest_, undistort_, halve_, accumulate_, select_;
+  ::cl::Buffer slots_;  // select_points' output, one point per block
+  std::size_t slots_capacity_ = 0;
+  std::vector<TrackPoint> slots_host_;
   Level distorted_;  // the finest level before undistortion
   ::cl::Buffer undistort_map_;
   std::size_t map_size_ = 0;  // floats in undistort_map_; 0: no undistortion

@@ -120,6 +120,50 @@ TEST(TrackingDevice, NormalEquationsMatchTheReferenceOnTumFrames) {
   }
 }
 
+// The device's point selection and precomputation against keyframe.cpp's, on real frames.
+TEST(TrackingDevice, KeyframePointsMatchTheReferenceOnTumFrames) {
+  PROBELESS_REQUIRE_DATA(testing::kTumRpy);
+  const auto frames = testing::read_tum_frames(1);
+  const DenseTrackerParams params;
+  const auto camera = testing::tum_fr1_camera();
+  const auto map = undistortion_map(camera, params.finest_level);
+  FramePyramid pyramid;
+  build_pyramid_reference(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params, map,
+                          pyramid);
+  const Keyframe reference = make_keyframe(pyramid, Pose::identity(), params.max_points_per_level);
+  TrackingDevice device(cl_context());
+  device.set_undistortion(map);
+  device.build_pyramid(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params);
+  const Keyframe on_device = device.make_keyframe(Pose::identity(), params.max_points_per_level);
+  ASSERT_EQ(on_device.device_points.size(), on_device.points.size());  // uploaded
+  for (std::size_t l = 0; l < reference.points.size(); ++l) {
+    const auto &a = reference.points[l], &b = on_device.points[l];
+    ASSERT_GT(a.size(), 200u) << "level " << l;
+    // The pyramids differ by float rounding, which may flip a near tie of gradients: allow a
+    // few points chosen differently, compare the rest value by value.
+    ASSERT_NEAR(double(b.size()), double(a.size()), 2.0) << "level " << l;
+    std::size_t same = 0, normals = 0;
+    for (std::size_t i = 0, j = 0; i < a.size() && j < b.size(); ++i, ++j) {
+      const float* pa = &a[i].x;
+      const float* pb = &b[j].x;
+      if (std::abs(pa[0] - pb[0]) > 1e-4f || std::abs(pa[1] - pb[1]) > 1e-4f) continue;
+      ++same;
+      normals += a[i].has_normal > 0.0f;
+      // The photometric Jacobian carries the pyramids' rounding through a difference of
+      // neighbours: compared relative to its largest component.
+      float j_scale = 0.0f;
+      for (int k = 8; k < 14; ++k) j_scale = std::max(j_scale, std::abs(pa[k]));
+      for (int k = 0; k < 24; ++k) {
+        const float scale = k >= 8 && k < 14 ? j_scale : std::abs(pa[k]);
+        EXPECT_NEAR(pb[k], pa[k], 1e-3f * (1.0f + scale))
+            << "level " << l << " point " << i << " field " << k;
+      }
+    }
+    EXPECT_GT(double(same), 0.99 * double(a.size())) << "level " << l;
+    EXPECT_GT(normals, same / 2) << "level " << l;
+  }
+}
+
 TEST(DenseTrackerDevice, TracksTumFramesLikeTheReference) {
   PROBELESS_REQUIRE_DATA(testing::kTumRpy);
   const auto frames = testing::read_tum_frames(40);
