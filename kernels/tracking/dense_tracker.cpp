@@ -1,6 +1,7 @@
 #include "kernels/tracking/dense_tracker.hpp"
 
 #include <Eigen/Cholesky>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -39,6 +40,8 @@ constexpr double kInitialSigmaGeo = 0.01;
 // Floors that keep the weights finite on a perfect (synthetic) match.
 constexpr double kMinSigmaPhoto = 0.5;
 constexpr double kMinSigmaGeo = 1e-4;
+// A keyframe point warped nearer than this is at the lens, not on a surface the frame sees.
+constexpr float kMinWarpedDepthM = 0.1f;
 // Gains outside this range are not an exposure change but a failed fit.
 constexpr double kMinGain = 0.5, kMaxGain = 2.0;
 
@@ -134,7 +137,7 @@ Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gai
       p.nu = params.student_nu;
       p.photo_inlier = params.photometric_inlier;
       p.geo_inlier = params.geometric_inlier_m;
-      p.min_depth = params.min_depth_m * 0.5f;
+      p.min_depth = kMinWarpedDepthM;
       s = sums(kf, level, p);
       ++out.iterations;
       if (s[kPhotoCount] + s[kGeoCount] < 12) break;  // too few residuals for 6 unknowns
@@ -167,6 +170,7 @@ Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gai
       const Vector6d xi = H.ldlt().solve(g);
       if (!xi.allFinite()) break;
       T = T * se3_exp(-xi);
+      T.rotation.normalize();  // products of unit quaternions drift off the unit sphere
       // A step's image motion halves per coarser level: the bound is in finest-level pixels.
       if (xi.norm() < params.min_update * double(1 << level)) break;
     }
@@ -243,6 +247,7 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
   t0 = std::chrono::steady_clock::now();
   Alignment a;
   Keyframe* reference = nullptr;
+  std::size_t relocalised_at = 0;
   if (m.state == TrackingState::Tracking) {
     reference = &m.keyframes.back();
     a = m.align(*reference, predicted.inverse() * reference->T_world_keyframe, m.gain, m.bias);
@@ -254,17 +259,22 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
       a.iterations += before;
     }
   } else {
-    // Lost: try every kept keyframe from the newest, starting at its own view.
-    for (auto it = m.keyframes.rbegin(); it != m.keyframes.rend(); ++it) {
-      const int before = a.iterations;
-      a = m.align(*it, Pose::identity(), 1.0, 0.0);
-      a.iterations += before;
-      if (a.accepted) {
-        reference = &*it;
-        r.relocalised = true;
-        break;
+    // Lost: try every kept keyframe, starting at its own view, and take the best accepted one
+    // (the first accepted may be a wrong minimum that just passes the test).
+    int iterations = 0;
+    for (std::size_t i = m.keyframes.size(); i-- > 0;) {
+      const Alignment candidate = m.align(m.keyframes[i], Pose::identity(), 1.0, 0.0);
+      iterations += candidate.iterations;
+      if (!reference || (candidate.accepted && candidate.inlier_fraction > a.inlier_fraction)) {
+        a = candidate;
+        if (candidate.accepted) {
+          reference = &m.keyframes[i];
+          relocalised_at = i;
+        }
       }
     }
+    a.iterations = iterations;
+    r.relocalised = reference != nullptr;
   }
   r.align_ms = ms_since(t0);
   r.iterations = a.iterations;
@@ -290,10 +300,9 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
   m.gain = a.gain;
   m.bias = a.bias;
   if (r.relocalised) {
-    // The reference is the keyframe that relocalised us: move it to the back.
-    Keyframe kf = std::move(*reference);
-    std::erase_if(m.keyframes, [](const Keyframe& kept) { return kept.points.empty(); });
-    m.keyframes.push_back(std::move(kf));
+    // The keyframe that relocalised us becomes the reference: move it to the back.
+    const auto it = m.keyframes.begin() + std::ptrdiff_t(relocalised_at);
+    std::rotate(it, it + 1, m.keyframes.end());
   }
 
   if (a.visible_fraction < m.params.keyframe_min_visible ||

@@ -104,8 +104,14 @@ TEST(DenseTracker, DetectsLossAndRelocalisesWhenTheViewReturns) {
   };
   const auto home = render_room(kCamera, Pose::identity());
   ASSERT_EQ(step(home).state, TrackingState::Tracking);
-  const Pose moved = pose_from(0.01, 0.0, 0.01, 0.0, 1.0, 0.0);
-  ASSERT_EQ(step(render_room(kCamera, moved)).state, TrackingState::Tracking);
+  // Turn away in steps past the keyframe bound (10 degrees): a second keyframe is kept.
+  int keyframes = 1;
+  for (double yaw = 3; yaw <= 15; yaw += 3) {
+    const TrackResult r = step(render_room(kCamera, pose_from(0, 0, 0, 0, yaw, 0)));
+    ASSERT_EQ(r.state, TrackingState::Tracking) << yaw;
+    keyframes = r.keyframes;
+  }
+  EXPECT_EQ(keyframes, 2);
 
   // Something else entirely: another texture on another room.
   auto other = render_room(kCamera, pose_from(0.4, -0.3, -0.5, 0, 40, 10), 1);
