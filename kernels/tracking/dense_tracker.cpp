@@ -53,6 +53,18 @@ double rotation_deg(const Pose& p) {
   return Eigen::AngleAxisd(p.rotation).angle() * 180.0 / M_PI;
 }
 
+// A motion predicted over more than this many of the last intervals is a guess, not a model.
+constexpr double kMaxMotionScale = 4.0;
+
+// The motion `s` times over: rotation angle and translation scaled (small motions).
+Pose scaled_motion(const Pose& motion, double s) {
+  const Eigen::AngleAxisd r(motion.rotation);
+  Pose out;
+  out.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(r.angle() * s, r.axis()));
+  out.translation = motion.translation * s;
+  return out;
+}
+
 struct Alignment {
   Pose T_current_keyframe;
   bool accepted = false;
@@ -75,7 +87,8 @@ struct DenseTracker::Impl {
   FramePyramid current;            // the CPU path's pyramid (the device path's stays on the device)
   std::deque<Keyframe> keyframes;  // back() is the reference
   Pose T_world_last;
-  Pose last_motion;  // T_prev_cur of the last tracked pair
+  Pose last_motion;                              // T_prev_cur of the last tracked pair
+  TimestampNs last_time = 0, last_interval = 0;  // of the last tracked frame and pair
   double gain = 1, bias = 0;
 
   void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm) {
@@ -216,15 +229,23 @@ DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeCamera& pinhole,
 
 DenseTracker::~DenseTracker() = default;
 
-TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth_mm, TimestampNs) {
+TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth_mm,
+                                TimestampNs timestamp_ns) {
   Impl& m = *impl_;
   const auto& k = m.camera;
   if (colour.width() != k.width || colour.height() != k.height || depth_mm.width() != k.width ||
       depth_mm.height() != k.height)
     throw std::invalid_argument("tracking: frame size differs from the colour camera's");
   TrackResult r;
-  const Pose predicted =
-      m.params.constant_velocity ? m.T_world_last * m.last_motion : m.T_world_last;
+  // Constant velocity: the last pair's motion, scaled to this frame's interval when both are
+  // known (a dropped frame doubles it).
+  const TimestampNs interval = timestamp_ns - m.last_time;
+  const double scale = m.last_interval > 0 && interval > 0
+                           ? std::min(double(interval) / double(m.last_interval), kMaxMotionScale)
+                           : 1.0;
+  const Pose predicted = m.params.constant_velocity
+                             ? m.T_world_last * scaled_motion(m.last_motion, scale)
+                             : m.T_world_last;
   auto t0 = std::chrono::steady_clock::now();
   m.build_pyramid(colour, depth_mm);
   r.pyramid_ms = ms_since(t0);
@@ -235,6 +256,8 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
     r.keyframe_ms = ms_since(t0);
     m.T_world_last = m.origin;
     m.last_motion = Pose::identity();
+    m.last_time = timestamp_ns;
+    m.last_interval = 0;
     m.state = TrackingState::Tracking;
     r.state = m.state;
     r.T_world_camera = m.origin;
@@ -295,6 +318,8 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
 
   const Pose T_world_camera = reference->T_world_keyframe * a.T_current_keyframe.inverse();
   m.last_motion = r.relocalised ? Pose::identity() : m.T_world_last.inverse() * T_world_camera;
+  m.last_interval = r.relocalised ? 0 : interval;
+  m.last_time = timestamp_ns;
   m.T_world_last = T_world_camera;
   m.state = TrackingState::Tracking;
   m.gain = a.gain;

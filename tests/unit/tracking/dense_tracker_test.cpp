@@ -95,6 +95,28 @@ TEST(DenseTracker, StudentTWeightsDownWeightAnOccludingPatch) {
   EXPECT_GT(plain_t + 0.01 * plain_r, 3 * (robust_t + 0.01 * robust_r));
 }
 
+// A steady pan at 30 Hz with one frame dropped: the constant-velocity start is scaled by the
+// timestamps, so the frame after the gap starts where the camera is.
+TEST(DenseTracker, ScalesTheMotionModelAcrossADroppedFrame) {
+  auto pan = [](int frame) { return pose_from(0.02 * frame, 0, 0, 0, 2.0 * frame, 0); };
+  auto run = [&](bool with_timestamps) {
+    DenseTracker tracker(nullptr, kCamera);
+    TrackResult r;
+    for (const int frame : {0, 1, 2, 4}) {  // frame 3 dropped
+      const auto f = render_room(kCamera, pan(frame));
+      r = tracker.track(f.colour, f.depth_mm, with_timestamps ? ms_to_ns(33) * frame : 0);
+    }
+    return r;
+  };
+  const TrackResult timed = run(true), untimed = run(false);
+  ASSERT_EQ(timed.state, TrackingState::Tracking);
+  EXPECT_LT((timed.T_world_camera.translation - pan(4).translation).norm(), 0.002);
+  EXPECT_LT(rotation_error_deg(timed.T_world_camera, pan(4)), 0.05);
+  std::printf("after the gap: %d iterations with timestamps, %d without\n", timed.iterations,
+              untimed.iterations);
+  EXPECT_LT(timed.iterations, untimed.iterations);
+}
+
 TEST(DenseTracker, DetectsLossAndRelocalisesWhenTheViewReturns) {
   DenseTracker tracker(nullptr, kCamera);
   TimestampNs t = 0;
