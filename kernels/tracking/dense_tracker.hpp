@@ -29,14 +29,14 @@ struct DenseTrackerParams {
   float max_depth_m = 4.0f;
 
   // Pyramid: `levels` levels used, the finest at 1/2^finest_level of the frame (1: 320x240
-  // for VGA, as DVO's real-time setting; 0 = full resolution).
+  // for VGA, the time budget; 0 = full resolution).
   int levels = 4;
   int finest_level = 1;
   // Keyframe points per level: one per block, the pixel of largest intensity gradient with
   // valid depth (the block side follows from this budget).
   int max_points_per_level = 4800;
   int max_iterations = 10;        // Gauss-Newton iterations per level
-  double min_update = 1e-4;       // stop a level when |xi| (rad, m) falls below this
+  double min_update = 1e-4;       // stop a level when |xi| (rad, m) < this x 2^level
   float student_nu = 5.0f;        // degrees of freedom of the t-distribution (Kerl et al.)
   bool constant_velocity = true;  // predict from the last motion, else the last pose
 
@@ -60,8 +60,8 @@ struct TrackResult {
   // The colour camera's pose in the tracker's world: the first frame's camera (or the pose
   // given to reset()). Meaningful only when state == Tracking.
   Pose T_world_camera;
-  double residual_rms = 0.0;      // photometric, intensity units, at the finest level
-  double inlier_fraction = 0.0;   // valid, non-outlier pixels / valid pixels
+  double residual_rms = 0.0;      // photometric, grey levels after the brightness model
+  double inlier_fraction = 0.0;   // of the keyframe points inside the frame (finest level)
   int keyframes = 0;              // kept for relocalisation
   bool new_keyframe = false;      // this frame became the reference
   bool relocalised = false;       // tracking resumed against a kept keyframe on this frame
