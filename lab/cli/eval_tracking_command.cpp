@@ -16,7 +16,7 @@ namespace probeless::cli {
 namespace {
 
 struct Options {
-  std::string dataset, methods, json;
+  std::string dataset, methods, json, trajectories;
   int frames = 0;
 };
 
@@ -56,6 +56,7 @@ void run(const Options& o) {
     if (std::find(methods.begin(), methods.end(), "dense") != methods.end())
       ctx = std::make_unique<ComputeContext>();
     report = eval::evaluate_tracking(*sequence, methods, range, ctx.get());
+    if (!o.trajectories.empty()) eval::write_tum_trajectories(report, o.trajectories);
   } catch (const std::exception& e) {
     throw CommandError(std::string("eval tracking: ") + e.what());
   }
@@ -90,6 +91,9 @@ void add_eval_tracking_command(CLI::App& eval) {
                   "(default: all)");
   cmd->add_option("--frames", o->frames, "At most this many frames (0: all; the sim: 150)");
   cmd->add_option("--json", o->json, "Write the report as JSON");
+  cmd->add_option("--trajectories", o->trajectories,
+                  "Write DIR/METHOD.txt (tracked, the first frame's camera as the world) and "
+                  "DIR/groundtruth.txt (in the dataset's world), TUM trajectory format");
   cmd->callback([o] { run(*o); });
 }
 

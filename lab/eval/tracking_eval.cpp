@@ -1,9 +1,12 @@
 #include "lab/eval/tracking_eval.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 
@@ -79,9 +82,33 @@ TrackingEvalReport evaluate_tracking(TrackingSequence& sequence,
     m.p50_ms = t.p50_ms;
     m.p99_ms = t.p99_ms;
     m.lost_frames = run.lost;
+    m.poses = std::move(run.poses);
     report.methods.push_back(std::move(m));
   }
   return report;
+}
+
+void write_tum_trajectories(const TrackingEvalReport& report, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  const auto line = [](TimestampNs t, const Pose& p) {
+    const auto& q = p.rotation;
+    return fmt::format("{:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f} {:.6f}\n", t * 1e-9,
+                       p.translation.x(), p.translation.y(), p.translation.z(), q.x(), q.y(), q.z(),
+                       q.w());
+  };
+  const auto write = [&](const std::string& name, const std::vector<PosePair>& poses, bool truth) {
+    const std::string path = (std::filesystem::path(dir) / (name + ".txt")).string();
+    std::ofstream out(path);
+    out << "# timestamp tx ty tz qx qy qz qw (" << report.sequence << ", " << name << ")\n";
+    for (const auto& p : poses)
+      if (!truth)
+        out << line(p.timestamp_ns, p.estimate);
+      else if (p.truth)
+        out << line(p.timestamp_ns, *p.truth);
+    if (!out) throw std::runtime_error("cannot write " + path);
+  };
+  for (const auto& m : report.methods) write(m.name, m.poses, false);
+  if (!report.methods.empty()) write("groundtruth", report.methods.front().poses, true);
 }
 
 }  // namespace probeless::eval

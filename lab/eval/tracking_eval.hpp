@@ -9,6 +9,7 @@
 
 #include "lab/eval/tracking_dataset.hpp"
 #include "lab/eval/tracking_methods.hpp"
+#include "lab/eval/trajectory_metrics.hpp"
 
 namespace probeless::eval {
 
@@ -21,6 +22,7 @@ struct TrackingMethodReport {
   int reg_frames = 0;             // frames whose true projection of the anchor is inside the image
   double p50_ms = 0, p99_ms = 0;  // per frame, the first (initialising) frame excluded
   int lost_frames = 0;
+  std::vector<PosePair> poses;  // per frame: the tracked pose and the truth
 };
 
 struct TrackingEvalReport {
@@ -39,6 +41,11 @@ TrackingEvalReport evaluate_tracking(TrackingSequence& sequence,
 
 // The median of the valid depths (mm, 0 = unknown) in the `window` x `window` square at the
 // image centre, in metres; nullopt when none is valid.
+// Writes DIR/<method>.txt (tracked) and DIR/groundtruth.txt in TUM's trajectory format
+// ("timestamp tx ty tz qx qy qz qw", seconds), for TUM's own evaluate_ate.py / evaluate_rpe.py
+// and plots. Throws std::runtime_error when a file cannot be written.
+void write_tum_trajectories(const TrackingEvalReport& report, const std::string& dir);
+
 std::optional<double> central_median_depth_m(const DepthImage& depth_mm, int window = 64);
 
 }  // namespace probeless::eval

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "drivers/io/png.hpp"
 #include "support/subprocess.hpp"
@@ -101,9 +102,11 @@ TEST(EvalTracking, TumFr1RpyReportsEveryMethodWithPlausibleNumbers) {
 
 TEST(EvalTracking, SimOrbitAgainstItsTruth) {
   const auto out = testing::scratch_dir() / "sim.json";
+  const auto trajectories = testing::scratch_dir() / "trajectories";
   std::string output;
   ASSERT_EQ(run({"eval", "tracking", "--dataset", "sim:seed=2", "--frames", "40", "--methods",
-                 "opencv_rgbd,dense_cpu", "--json", out.string()},
+                 "opencv_rgbd,dense_cpu", "--json", out.string(), "--trajectories",
+                 trajectories.string()},
                 &output),
             0)
       << output;
@@ -114,6 +117,21 @@ TEST(EvalTracking, SimOrbitAgainstItsTruth) {
   for (const char* key : kMetricKeys) EXPECT_TRUE(m.contains(key)) << key;
   // 1.3 s of the orbit (0.23 m, 8 degrees): well under the distance travelled.
   EXPECT_LT(m.at("ate_rmse_m").get<double>(), 0.1);
+  // TUM trajectory files: a comment line and one line of 8 numbers per frame.
+  for (const char* name : {"opencv_rgbd.txt", "dense_cpu.txt", "groundtruth.txt"}) {
+    std::ifstream in(trajectories / name);
+    int lines = 0;
+    for (std::string line; std::getline(in, line);) {
+      if (line.starts_with("#")) continue;
+      std::istringstream fields(line);
+      double v;
+      int n = 0;
+      while (fields >> v) ++n;
+      EXPECT_EQ(n, 8) << name << ": " << line;
+      ++lines;
+    }
+    EXPECT_EQ(lines, 40) << name;
+  }
 }
 
 TEST(EvalTracking, BadInputsGiveClearErrors) {
