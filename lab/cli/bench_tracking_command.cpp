@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -25,7 +27,7 @@ constexpr int kMaxFrames = 1000;
 constexpr int kWarmupFrames = 10;  // OpenCL program builds, first allocations
 
 struct Options {
-  std::string dataset = "sim", methods = "dense,opencv_rgbd,opencv_icp,opencv_rgbdicp", json;
+  std::string dataset, methods = "dense,opencv_rgbd,opencv_icp,opencv_rgbdicp", json;
   int frames = 150;
 };
 
@@ -61,6 +63,17 @@ MethodTiming time_method(eval::TrackingMethod& method,
   return t;
 }
 
+// The shared data's fr1/rpy when it is there (real Kinect frames), else the sim's orbit.
+std::string default_dataset() {
+  const char* env = std::getenv("PROBELESS_DATA");
+  for (const char* base : {env, "../shared/data", "../../shared/data"}) {
+    if (!base || !*base) continue;
+    const auto dir = std::filesystem::path(base) / "rgbd/tum_fr1_rpy";
+    if (std::filesystem::exists(dir / "rgb.txt")) return "tum:" + dir.string();
+  }
+  return "sim";
+}
+
 void run(const Options& o) {
   if (o.frames < 2 || o.frames > kMaxFrames)
     throw CommandError(fmt::format("bench tracking: --frames must be in 2..{}", kMaxFrames));
@@ -70,7 +83,8 @@ void run(const Options& o) {
   PinholeIntrinsics camera;
   try {
     const auto names = eval::parse_tracking_methods(o.methods);
-    auto sequence = eval::open_tracking_sequence(o.dataset, o.frames);
+    auto sequence =
+        eval::open_tracking_sequence(o.dataset.empty() ? default_dataset() : o.dataset, o.frames);
     name = sequence->name();
     camera = sequence->camera();
     while (auto f = sequence->next()) frames.push_back(std::move(*f));
@@ -133,8 +147,8 @@ void add_bench_tracking_command(CLI::App& bench) {
   auto* cmd = bench.add_subcommand(
       "tracking", "Time per RGB-D frame of the dense tracker and of OpenCV's odometry");
   cmd->add_option("--dataset", o->dataset,
-                  "tum:DIR[?calibration=FILE] or sim[:OPTIONS] (frames held in memory)")
-      ->capture_default_str();
+                  "tum:DIR[?calibration=FILE] or sim[:OPTIONS] (frames held in memory; default: "
+                  "the shared data's rgbd/tum_fr1_rpy, else sim)");
   cmd->add_option("--methods", o->methods,
                   "Comma-separated (dense, dense_cpu, opencv_rgbd, opencv_icp, opencv_rgbdicp)")
       ->capture_default_str();

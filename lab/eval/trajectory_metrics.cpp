@@ -112,8 +112,8 @@ std::vector<double> registration_px(const std::vector<PosePair>& frames, const P
     if (!f.truth) continue;
     // T_camera_first = (T_first_world T_world_camera)^-1: the anchored point in this camera.
     const auto truth_px = project((truth_first_inv * *f.truth).inverse() * point_first);
-    if (!truth_px || truth_px->x() < 0 || truth_px->y() < 0 || truth_px->x() > k.width ||
-        truth_px->y() > k.height)
+    if (!truth_px || truth_px->x() < 0 || truth_px->y() < 0 || truth_px->x() >= k.width ||
+        truth_px->y() >= k.height)
       continue;
     const auto est_px = project((est_first_inv * f.estimate).inverse() * point_first);
     out.push_back(est_px ? (*est_px - *truth_px).norm() : diagonal);

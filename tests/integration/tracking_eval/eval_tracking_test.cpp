@@ -170,8 +170,8 @@ TEST(EvalTracking, BadInputsGiveClearErrors) {
 TEST(BenchTracking, ReportsDenseAndTheFastestOpenCvMethod) {
   const auto out = testing::scratch_dir() / "bench.json";
   std::string output;
-  ASSERT_EQ(run({"bench", "tracking", "--frames", "12", "--methods", "dense,opencv_rgbd,opencv_icp",
-                 "--json", out.string()},
+  ASSERT_EQ(run({"bench", "tracking", "--dataset", "sim", "--frames", "12", "--methods",
+                 "dense,opencv_rgbd,opencv_icp", "--json", out.string()},
                 &output),
             0)
       << output;
