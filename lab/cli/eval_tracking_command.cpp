@@ -41,8 +41,12 @@ void print(const eval::TrackingEvalReport& r, const eval::TrackingDepthRange& ra
         "{:<16} {:>9} {:>9} {:>10} {:>9.2f} {:>9.2f} {:>8.2f} {:>8.2f} {:>5}\n", m.name,
         cell(m.ate_rmse_m, "{:.4f}"), cell(m.rpe_t_m, "{:.4f}"), cell(m.rpe_r_deg, "{:.3f}"),
         m.reg_px_p50, m.reg_px_p95, m.p50_ms, m.p99_ms, m.lost_frames);
-  std::cout << "(ATE: RMSE after a rigid alignment; RPE: RMSE over pairs 1 s apart; reg: px "
-               "between the anchor projected with the tracked and the true pose)\n";
+  const auto& first = r.methods.front();
+  std::cout << fmt::format(
+      "(ATE: RMSE after a rigid alignment; RPE: RMSE over {} pairs 1 s apart; reg: px between "
+      "the anchor projected with the tracked and the true pose, over the {} of {} frames where "
+      "the truth sees it)\n",
+      first.rpe_pairs, first.reg_frames, r.frames);
 }
 
 void run(const Options& o) {
