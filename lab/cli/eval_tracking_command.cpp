@@ -53,8 +53,8 @@ void run(const Options& o) {
   const eval::TrackingDepthRange range;
   eval::TrackingEvalReport report;
   try {
-    const auto methods = eval::parse_tracking_methods(
-        o.methods.empty() ? "dense,dense_cpu,opencv_rgbd,opencv_icp,opencv_rgbdicp" : o.methods);
+    const auto methods =
+        o.methods.empty() ? eval::tracking_method_names() : eval::parse_tracking_methods(o.methods);
     auto sequence = eval::open_tracking_sequence(o.dataset, o.frames);
     std::unique_ptr<ComputeContext> ctx;
     if (std::find(methods.begin(), methods.end(), "dense") != methods.end())
