@@ -23,6 +23,8 @@ void add_bench_occlusion_command(CLI::App& bench);
 void add_bench_sim_command(CLI::App& bench);
 // probeless bench light [--frames N --json FILE] (bench_light_command.cpp)
 void add_bench_light_command(CLI::App& bench);
+// probeless bench tracking [--dataset tum:DIR --frames N --json F] (bench_tracking_command.cpp)
+void add_bench_tracking_command(CLI::App& bench);
 
 // probeless eval occlusion --dataset KIND:DIR [--json F --plots D] (eval_occlusion_command.cpp)
 void add_eval_occlusion_command(CLI::App& eval);
@@ -36,5 +38,8 @@ void add_eval_light_command(CLI::App& eval);
 void add_eval_render_command(CLI::App& eval);
 // probeless eval marker --image F --camera F.yml [--board SPEC --json F] (eval_marker_command.cpp)
 void add_eval_marker_command(CLI::App& eval);
+// probeless eval tracking --dataset tum:DIR|sim [--methods L --frames N --json F]
+// (eval_tracking_command.cpp)
+void add_eval_tracking_command(CLI::App& eval);
 
 }  // namespace probeless::cli

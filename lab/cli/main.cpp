@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     probeless::cli::add_bench_composite_command(*bench);
     probeless::cli::add_bench_occlusion_command(*bench);
     probeless::cli::add_bench_light_command(*bench);
+    probeless::cli::add_bench_tracking_command(*bench);
     auto* eval = a.add_subcommand("eval", "Evaluations against ground truth");
     eval->require_subcommand(1);
     probeless::cli::add_eval_occlusion_command(*eval);
@@ -23,5 +24,6 @@ int main(int argc, char** argv) {
     probeless::cli::add_eval_render_command(*eval);
     probeless::cli::add_eval_sh_command(*eval);
     probeless::cli::add_eval_marker_command(*eval);
+    probeless::cli::add_eval_tracking_command(*eval);
   });
 }
