@@ -5,16 +5,19 @@
 #include <event2/event.h>
 #include <event2/http.h>
 #include <event2/keyvalq_struct.h>
+#include <event2/listener.h>
 #include <event2/thread.h>
 #include <fcntl.h>
 #include <netdb.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <list>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string_view>
@@ -115,7 +118,8 @@ int bound_port(int fd) {
 struct StreamClient {
   HttpServer::Impl* server = nullptr;
   evhttp_request* request = nullptr;  // null once libevent has finished with it
-  std::string peer;
+  std::string peer;                   // "address:port"
+  std::string peer_address;           // for the per-address stream cap
   TimestampNs connected_ns = 0;
   LatestFrame<EncodedFrame>::Sequence last_sent = 0;
   std::uint64_t frames_sent = 0;
@@ -133,6 +137,8 @@ struct HttpServer::Impl {
   evhttp* http = nullptr;
   event* frame_event = nullptr;
   event* stop_event = nullptr;
+  event* resume_accept_event = nullptr;  // re-enables the listener after an accept failure
+  evconnlistener* listener = nullptr;
   int port = 0;
   std::thread thread;
 
@@ -144,6 +150,8 @@ struct HttpServer::Impl {
   std::list<std::unique_ptr<StreamClient>> clients;
   mutable std::mutex stats_mutex;
   std::uint64_t requests = 0;
+  std::uint64_t refused = 0;
+  std::uint64_t accept_failures = 0;
   std::uint64_t bytes_queued = 0;   // every response body and stream part
   std::uint64_t bytes_dropped = 0;  // queued to clients that closed before taking it
 
@@ -151,6 +159,8 @@ struct HttpServer::Impl {
   void teardown();
   void on_request(evhttp_request* req);
   void on_frame();
+  void on_accept_error();
+  bool admit(evhttp_request* req);
   void serve_stream(evhttp_request* req);
   void serve_snapshot(evhttp_request* req);
   void serve_status(evhttp_request* req);
@@ -170,6 +180,22 @@ void on_request_cb(evhttp_request* req, void* arg) {
 }
 void on_frame_cb(evutil_socket_t, short, void* arg) {
   static_cast<HttpServer::Impl*>(arg)->on_frame();
+}
+// The listener is evhttp's: its error callback gets evhttp's argument, not ours, so the
+// server is found by its listener.
+std::mutex g_listeners_mutex;
+std::map<evconnlistener*, HttpServer::Impl*> g_listeners;
+
+void on_accept_error_cb(evconnlistener* listener, void*) {
+  HttpServer::Impl* server = nullptr;
+  {
+    std::lock_guard lock(g_listeners_mutex);
+    if (auto it = g_listeners.find(listener); it != g_listeners.end()) server = it->second;
+  }
+  if (server) server->on_accept_error();
+}
+void on_resume_accept_cb(evutil_socket_t, short, void* arg) {
+  evconnlistener_enable(static_cast<HttpServer::Impl*>(arg)->listener);
 }
 void on_stop_cb(evutil_socket_t, short, void* arg) {
   event_base_loopbreak(static_cast<HttpServer::Impl*>(arg)->base);
@@ -216,10 +242,17 @@ void HttpServer::Impl::setup() {
 
   base = event_base_new();
   http = base ? evhttp_new(base) : nullptr;
-  if (http == nullptr || evhttp_accept_socket_with_handle(http, fd) == nullptr) {
+  evhttp_bound_socket* bound = http ? evhttp_accept_socket_with_handle(http, fd) : nullptr;
+  if (bound == nullptr) {
     close(fd);
     throw HttpServerError("HTTP: cannot set up libevent");
   }
+  listener = evhttp_bound_socket_get_listener(bound);
+  {
+    std::lock_guard lock(g_listeners_mutex);
+    g_listeners[listener] = this;
+  }
+  evconnlistener_set_error_cb(listener, on_accept_error_cb);
   evhttp_set_allowed_methods(http, EVHTTP_REQ_GET | EVHTTP_REQ_POST | EVHTTP_REQ_HEAD |
                                        EVHTTP_REQ_PUT | EVHTTP_REQ_DELETE | EVHTTP_REQ_OPTIONS |
                                        EVHTTP_REQ_TRACE | EVHTTP_REQ_CONNECT | EVHTTP_REQ_PATCH);
@@ -230,7 +263,8 @@ void HttpServer::Impl::setup() {
 
   frame_event = event_new(base, -1, 0, on_frame_cb, this);
   stop_event = event_new(base, -1, 0, on_stop_cb, this);
-  if (frame_event == nullptr || stop_event == nullptr) {
+  resume_accept_event = evtimer_new(base, on_resume_accept_cb, this);
+  if (frame_event == nullptr || stop_event == nullptr || resume_accept_event == nullptr) {
     throw HttpServerError("HTTP: cannot create events");
   }
 }
@@ -252,12 +286,18 @@ void HttpServer::Impl::teardown() {
     std::lock_guard lock(stats_mutex);
     clients.clear();
   }
+  if (listener) {
+    std::lock_guard lock(g_listeners_mutex);
+    g_listeners.erase(listener);
+  }
   if (http) evhttp_free(http);
   if (frame_event) event_free(frame_event);
   if (stop_event) event_free(stop_event);
+  if (resume_accept_event) event_free(resume_accept_event);
   if (base) event_base_free(base);
   http = nullptr;
-  frame_event = stop_event = nullptr;
+  listener = nullptr;
+  frame_event = stop_event = resume_accept_event = nullptr;
   base = nullptr;
 }
 
@@ -266,6 +306,8 @@ void HttpServer::Impl::send_body(evhttp_request* req, int code, const char* reas
   evkeyvalq* headers = evhttp_request_get_output_headers(req);
   evhttp_add_header(headers, "Content-Type", content_type);
   evhttp_add_header(headers, "Cache-Control", kNoCache);
+  if (!config.access.cors_origin.empty())
+    evhttp_add_header(headers, "Access-Control-Allow-Origin", config.access.cors_origin.c_str());
   {
     std::lock_guard lock(stats_mutex);
     bytes_queued += evbuffer_get_length(body);
@@ -290,6 +332,7 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
   const char* path = uri ? evhttp_uri_get_path(uri) : nullptr;
   const char* query = uri ? evhttp_uri_get_query(uri) : nullptr;
   const std::string_view p = path && *path ? path : "/";
+  if (!admit(req)) return;
   const Route route = route_for(p, query);
   if (route == Route::NotFound) {
     send_text(req, HTTP_NOTFOUND, "Not Found", "not found: " + std::string(p) + "\n");
@@ -321,6 +364,50 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
     case Route::NotFound:
       return;
   }
+}
+
+// The access rules of http_access.hpp, and the CORS preflight. False: answered here.
+bool HttpServer::Impl::admit(evhttp_request* req) {
+  evkeyvalq* in = evhttp_request_get_input_headers(req);
+  const AccessDecision decision =
+      check_access(config.access, config.address, evhttp_find_header(in, "Host"),
+                   evhttp_find_header(in, "Authorization"));
+  const bool preflight =
+      evhttp_request_get_command(req) == EVHTTP_REQ_OPTIONS && !config.access.cors_origin.empty();
+  if (decision == AccessDecision::Allow && !preflight) return true;
+  if (decision != AccessDecision::BadHost && preflight) {
+    // A preflight carries no credentials (Fetch standard): it only learns what is allowed.
+    evkeyvalq* out = evhttp_request_get_output_headers(req);
+    evhttp_add_header(out, "Access-Control-Allow-Methods", "GET");
+    evhttp_add_header(out, "Access-Control-Allow-Headers", "Authorization");
+    send_text(req, 204, "No Content", "");
+    return false;
+  }
+  {
+    std::lock_guard lock(stats_mutex);
+    ++refused;
+  }
+  if (decision == AccessDecision::BadHost) {
+    send_text(req, 403, "Forbidden", "this server does not answer to that Host\n");
+  } else {
+    evhttp_add_header(evhttp_request_get_output_headers(req), "WWW-Authenticate",
+                      authenticate_challenge(config.access).c_str());
+    send_text(req, 401, "Unauthorized", "authentication required\n");
+  }
+  return false;
+}
+
+void HttpServer::Impl::on_accept_error() {
+  {
+    std::lock_guard lock(stats_mutex);
+    ++accept_failures;
+  }
+  // Out of descriptors (or memory): the pending connection stays in the backlog and the
+  // listening socket stays readable, so retrying now would only spin. Pause, then retry.
+  evconnlistener_disable(listener);
+  const auto ms = config.accept_backoff.count();
+  const timeval pause{static_cast<time_t>(ms / 1000), static_cast<suseconds_t>(ms % 1000 * 1000)};
+  evtimer_add(resume_accept_event, &pause);
 }
 
 void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
@@ -366,9 +453,26 @@ void HttpServer::Impl::serve_stream(evhttp_request* req) {
     send_text(req, 503, "Service Unavailable", "too many stream clients\n");
     return;
   }
+  char* address = nullptr;
+  ev_uint16_t port_number = 0;
+  evhttp_connection_get_peer(conn, &address, &port_number);
+  const std::string peer_address = address ? address : "?";
+  const auto same_peer = std::count_if(clients.begin(), clients.end(), [&](const auto& c) {
+    return c->request != nullptr && c->peer_address == peer_address;
+  });
+  // Loopback peers are exempt: on the box itself every local client (a recorder, a reverse
+  // proxy) shares one address, and a local process could open the sockets anyway.
+  if (!is_loopback_address(peer_address) && config.access.max_streams_per_peer > 0 &&
+      same_peer >= config.access.max_streams_per_peer) {
+    evhttp_add_header(evhttp_request_get_output_headers(req), "Retry-After", "5");
+    send_text(req, 429, "Too Many Requests", "too many streams from this address\n");
+    return;
+  }
   evkeyvalq* headers = evhttp_request_get_output_headers(req);
   evhttp_add_header(headers, "Content-Type",
                     (std::string("multipart/x-mixed-replace;boundary=") + kBoundary).c_str());
+  if (!config.access.cors_origin.empty())
+    evhttp_add_header(headers, "Access-Control-Allow-Origin", config.access.cors_origin.c_str());
   evhttp_add_header(headers, "Cache-Control", kNoCache);
   evhttp_add_header(headers, "Pragma", "no-cache");
   evhttp_add_header(headers, "Expires", "Mon, 3 Jan 2000 12:34:56 GMT");
@@ -379,10 +483,8 @@ void HttpServer::Impl::serve_stream(evhttp_request* req) {
   client->server = this;
   client->request = req;
   client->connected_ns = monotonic_now_ns();
-  char* address = nullptr;
-  ev_uint16_t port_number = 0;
-  evhttp_connection_get_peer(conn, &address, &port_number);
-  client->peer = std::string(address ? address : "?") + ":" + std::to_string(port_number);
+  client->peer_address = peer_address;
+  client->peer = peer_address + ":" + std::to_string(port_number);
 
   // A stream never reads again, so no read timeout; a write timeout drops a dead client.
   bufferevent* bev = evhttp_connection_get_bufferevent(conn);
@@ -469,6 +571,8 @@ HttpServerStats HttpServer::Impl::stats() const {
   const TimestampNs now = monotonic_now_ns();
   std::lock_guard lock(stats_mutex);
   s.requests = requests;
+  s.refused = refused;
+  s.accept_failures = accept_failures;
   std::uint64_t unsent = bytes_dropped;
   for (const auto& c : clients) {
     StreamClientStats cs;
@@ -496,6 +600,8 @@ nlohmann::json to_json(const HttpServerStats& stats) {
                        {"connected_s", c.connected_s}});
   }
   return {{"requests", stats.requests},
+          {"refused", stats.refused},
+          {"accept_failures", stats.accept_failures},
           {"frames_published", stats.frames_published},
           {"bytes_sent", stats.bytes_sent},
           {"clients", stats.stream_clients.size()},

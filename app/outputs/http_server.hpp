@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "app/outputs/http_access.hpp"
 #include "app/outputs/output.hpp"
 #include "core/time.hpp"
 
@@ -51,6 +52,11 @@ struct HttpServerConfig {
   std::chrono::seconds request_timeout{30};
   int max_stream_clients = 32;  // more get 503: an SBC's uplink is the limit long before
   int jpeg_quality = 80;        // of the frames the pipeline encodes for this server
+  HttpAccessConfig access;      // Host check, authentication, CORS (app/outputs/http_access.hpp)
+  // When accept() fails for want of descriptors (EMFILE/ENFILE), the listener pauses this
+  // long instead of retrying at once: libevent 2.1 would otherwise spin on the pending
+  // connection and log every attempt.
+  std::chrono::milliseconds accept_backoff{250};
 };
 
 struct StreamClientStats {
@@ -63,6 +69,8 @@ struct StreamClientStats {
 
 struct HttpServerStats {
   std::uint64_t requests = 0;
+  std::uint64_t refused = 0;          // failed the Host check or authentication
+  std::uint64_t accept_failures = 0;  // accept() errors (out of descriptors), each a pause
   std::uint64_t frames_published = 0;
   std::uint64_t bytes_sent = 0;  // handed to the kernel, all responses
   std::vector<StreamClientStats> stream_clients;

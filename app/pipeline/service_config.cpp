@@ -17,6 +17,39 @@
 namespace probeless {
 namespace {
 
+// [http]'s access keys (app/outputs/http_access.hpp): a secret that is required by the chosen
+// scheme but empty is an error, not an open door.
+void parse_http_access(const TomlReader& r, const toml::table& t, HttpAccessConfig& access) {
+  if (const toml::node* hosts = t.get("allowed_hosts")) {
+    const auto* arr = hosts->as_array();
+    if (!arr) r.fail(hosts, "allowed_hosts: expected an array of host names");
+    access.allowed_hosts.clear();
+    for (const auto& item : *arr) {
+      const auto* name = item.as_string();
+      if (!name || name->get().empty()) r.fail(&item, "allowed_hosts: expected non-empty strings");
+      access.allowed_hosts.push_back(name->get());
+    }
+  }
+  std::string auth = "none";
+  r.get(t, "auth", auth);
+  try {
+    access.auth = parse_http_auth(auth);
+  } catch (const std::invalid_argument& e) {
+    r.fail(t.get("auth"), e.what());
+  }
+  r.get(t, "user", access.user);
+  r.get(t, "password", access.password);
+  r.get(t, "token", access.token);
+  r.get(t, "cors_origin", access.cors_origin);
+  r.get(t, "max_streams_per_peer", access.max_streams_per_peer);
+  if (access.auth == HttpAuth::Basic && (access.user.empty() || access.password.empty()))
+    r.fail(t.get("auth"), "auth = \"basic\" needs a non-empty user and password");
+  if (access.auth == HttpAuth::Bearer && access.token.size() < 16)
+    r.fail(t.get("auth"), "auth = \"bearer\" needs a token of at least 16 characters");
+  if (access.max_streams_per_peer < 0)
+    r.fail(t.get("max_streams_per_peer"), "max_streams_per_peer must be >= 0 (0: no cap)");
+}
+
 ObjectConfig parse_object(const TomlReader& r, const toml::table& t) {
   r.only(
       t, "[[object]]",
@@ -96,7 +129,9 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     r.get(*t, "method", c.occlusion_method);
   }
   if (auto* t = r.optional_table(root, "http")) {
-    r.only(*t, "[http]", {"enabled", "address", "port", "jpeg_quality"});
+    r.only(*t, "[http]",
+           {"enabled", "address", "port", "jpeg_quality", "allowed_hosts", "auth", "user",
+            "password", "token", "cors_origin", "max_streams_per_peer"});
     r.get(*t, "enabled", c.http.enabled);
     r.get(*t, "address", c.http.address);
     r.get(*t, "port", c.http.port);
@@ -104,6 +139,7 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     if (c.http.port < 0 || c.http.port > 65535) r.fail(t->get("port"), "port out of range");
     if (c.http.jpeg_quality < 1 || c.http.jpeg_quality > 100)
       r.fail(t->get("jpeg_quality"), "jpeg_quality must be 1..100");
+    parse_http_access(r, *t, c.http.access);
   }
   if (auto* t = r.optional_table(root, "rtsp")) {
     r.only(*t, "[rtsp]",

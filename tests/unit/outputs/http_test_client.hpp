@@ -134,12 +134,12 @@ struct HttpResponse {
   std::string body;
 };
 
-// One request on a fresh connection ("Connection: close"), read to the end.
-inline HttpResponse http_request(int port, const std::string& method, const std::string& target,
-                                 std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
+// One request on a fresh connection, the request head as given (with its blank line), read
+// to the end.
+inline HttpResponse http_exchange(int port, const std::string& request,
+                                  std::chrono::milliseconds timeout = std::chrono::seconds(5)) {
   TcpClient client(port);
-  client.send_all(method + " " + target +
-                  " HTTP/1.1\r\nHost: localhost\r\nConnection: close\r\n\r\n");
+  client.send_all(request);
   std::string raw;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   std::optional<HttpHead> head;
@@ -147,7 +147,7 @@ inline HttpResponse http_request(int port, const std::string& method, const std:
     client.receive(raw, std::chrono::milliseconds(100));
     if (!head) head = parse_head(raw);
   }
-  if (!head) throw std::runtime_error("no response head for " + target);
+  if (!head) throw std::runtime_error("no response head for " + request.substr(0, 40));
   HttpResponse r{*head, {}};
   if (lower(r.head.get("transfer-encoding")) == "chunked") {
     dechunk(raw, r.body);
@@ -155,6 +155,16 @@ inline HttpResponse http_request(int port, const std::string& method, const std:
     r.body = raw;
   }
   return r;
+}
+
+// One request on a fresh connection ("Connection: close"); `headers`: extra header lines,
+// each ending in CRLF.
+inline HttpResponse http_request(int port, const std::string& method, const std::string& target,
+                                 std::chrono::milliseconds timeout = std::chrono::seconds(5),
+                                 const std::string& headers = "Host: localhost\r\n") {
+  return http_exchange(
+      port, method + " " + target + " HTTP/1.1\r\n" + headers + "Connection: close\r\n\r\n",
+      timeout);
 }
 
 inline HttpResponse http_get(int port, const std::string& target) {

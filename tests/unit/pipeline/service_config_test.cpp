@@ -255,3 +255,29 @@ encoder = "x264enc"
 
 }  // namespace
 }  // namespace probeless
+
+namespace probeless {
+namespace {
+
+// [http]'s access keys (app/outputs/http_access.hpp): an auth scheme without its secret is
+// refused at start rather than served open.
+TEST(ServiceConfig, HttpAccessKeys) {
+  const ServiceConfig c = parse_service_config(
+      "[http]\nallowed_hosts = [\"probeless.local\"]\nauth = \"basic\"\nuser = \"u\"\n"
+      "password = \"p\"\ncors_origin = \"https://dash.local\"\nmax_streams_per_peer = 2\n");
+  EXPECT_EQ(c.http.access.allowed_hosts, std::vector<std::string>{"probeless.local"});
+  EXPECT_EQ(c.http.access.auth, HttpAuth::Basic);
+  EXPECT_EQ(c.http.access.user, "u");
+  EXPECT_EQ(c.http.access.cors_origin, "https://dash.local");
+  EXPECT_EQ(c.http.access.max_streams_per_peer, 2);
+  EXPECT_EQ(parse_service_config("").http.access.auth, HttpAuth::None);
+  EXPECT_THROW(parse_service_config("[http]\nauth = \"digest\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[http]\nauth = \"basic\"\nuser = \"u\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[http]\nauth = \"bearer\"\ntoken = \"short\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[http]\nallowed_hosts = \"x\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[http]\nallowed_hosts = [1]\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[http]\nmax_streams_per_peer = -1\n"), ParseError);
+}
+
+}  // namespace
+}  // namespace probeless
