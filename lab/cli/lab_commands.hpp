@@ -37,4 +37,9 @@ void add_eval_render_command(CLI::App& eval);
 // probeless eval marker --image F --camera F.yml [--board SPEC --json F] (eval_marker_command.cpp)
 void add_eval_marker_command(CLI::App& eval);
 
+// probeless calibrate --images DIR --board SPEC [--model M --camera-out F --json F] | --import-ocam
+// FILE --camera-out F | --recording DIR | --rgb-images D --fisheye-images D ... --out F
+// (calibrate_command.cpp)
+void add_calibrate_command(CLI::App& app);
+
 }  // namespace probeless::cli

@@ -23,5 +23,6 @@ int main(int argc, char** argv) {
     probeless::cli::add_eval_render_command(*eval);
     probeless::cli::add_eval_sh_command(*eval);
     probeless::cli::add_eval_marker_command(*eval);
+    probeless::cli::add_calibrate_command(a);
   });
 }
