@@ -52,6 +52,13 @@ class BoardDetector {
   std::unique_ptr<Impl> impl_;
 };
 
+// The board as printed, `pixels_per_square` pixels to a square, without margin (leave a white
+// one around it). Pixel (u, v) shows the board point (s (u + 0.5) / n - o, s (v + 0.5) / n - o)
+// of BoardView::points' frame, with s the square side, n = pixels_per_square and o = s for a
+// chessboard (its first inner corner is one square in) and 0 for a ChArUco board. For
+// printing, and for rendering synthetic views in the tests.
+ImageGray8 board_image(const BoardSpec& spec, int pixels_per_square);
+
 // Any image OpenCV reads (JPEG, PNG, ...) as 8-bit gray. Throws std::runtime_error naming the
 // file when it cannot be read.
 ImageGray8 read_gray_image(const std::filesystem::path& path);
