@@ -216,3 +216,46 @@ double kannala_brandt_max_theta(const Intrinsics& f) {
 }
 
 }  // namespace probeless::calib
+
+namespace probeless::calib {
+
+ViewFit fit_board_pose(const CameraModel& camera, const BoardView& view) {
+  if (view.width != camera.width() || view.height != camera.height())
+    throw CalibrationError(fmt::format("{} is {}x{} but the camera's model is {}x{}", view.name,
+                                       view.width, view.height, camera.width(), camera.height()));
+  // Rays beyond 80 deg land too far out on the z = 1 plane to weigh sensibly in PnP.
+  const double min_z = std::cos(80.0 * std::numbers::pi / 180.0);
+  std::vector<cv::Point3d> points;
+  std::vector<cv::Point2d> plane;
+  for (std::size_t i = 0; i < view.pixels.size(); ++i) {
+    const auto ray = camera.unproject(view.pixels[i]);
+    if (!ray || ray->z() < min_z) continue;
+    points.emplace_back(view.points[i].x(), view.points[i].y(), view.points[i].z());
+    plane.emplace_back(ray->x() / ray->z(), ray->y() / ray->z());
+  }
+  if (points.size() < 6)
+    throw CalibrationError(fmt::format(
+        "{}: only {} of its {} corners are within the camera model's field of view: is it a "
+        "view of this camera?",
+        view.name, points.size(), view.pixels.size()));
+  cv::Vec3d rvec, tvec;
+  if (!cv::solvePnP(points, plane, cv::Matx33d::eye(), cv::noArray(), rvec, tvec))
+    throw CalibrationError(view.name + ": no board pose found for the camera's model");
+  ViewFit fit;
+  fit.name = view.name;
+  fit.corners = static_cast<int>(view.pixels.size());
+  fit.T_camera_board = pose_from(rvec, tvec);
+  const Eigen::Vector3d normal = fit.T_camera_board.rotation * Eigen::Vector3d::UnitZ();
+  fit.tilt_deg = std::acos(std::min(1.0, std::abs(normal.z()))) * 180.0 / std::numbers::pi;
+  double sum = 0;
+  for (std::size_t i = 0; i < view.pixels.size(); ++i) {
+    const auto px = camera.project(fit.T_camera_board * view.points[i]);
+    const Eigen::Vector2d p = px ? *px : Eigen::Vector2d(-1e6, -1e6);  // shows as a huge error
+    fit.reprojected.push_back(p);
+    sum += (p - view.pixels[i]).squaredNorm();
+  }
+  fit.rms_px = std::sqrt(sum / static_cast<double>(view.pixels.size()));
+  return fit;
+}
+
+}  // namespace probeless::calib

@@ -66,6 +66,14 @@ struct Intrinsics {
 // whose boards are nearly parallel, or a solver failure.
 Intrinsics calibrate_intrinsics(const std::vector<BoardView>& views, LensModel model);
 
+// The board's pose in one view through a camera whose model is known (any of core/camera:
+// an imported OCamCalib fisheye too), and the view's reprojection through the model: PnP on
+// the corners' rays (those within 80 deg of the axis, as points on the z = 1 plane). Throws
+// CalibrationError when the model cannot unproject enough of the corners (a view of another camera,
+// a wrong size). The pose is what PnP finds on the z = 1 plane; the rig's refinement improves it
+// with the pixels.
+ViewFit fit_board_pose(const CameraModel& camera, const BoardView& view);
+
 // The largest angle from the axis the fitted Kannala-Brandt polynomial is valid to: where the
 // farthest image corner lies, or earlier where theta_d(theta) stops increasing.
 double kannala_brandt_max_theta(const Intrinsics& fisheye);

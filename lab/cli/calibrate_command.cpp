@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/camera/pinhole.hpp"
+#include "drivers/replay/calibration_file.hpp"
 #include "lab/calib/board_detector.hpp"
 #include "lab/calib/camera_toml.hpp"
 #include "lab/calib/intrinsics.hpp"
@@ -27,7 +28,7 @@ using namespace probeless::calib;
 struct Options {
   std::string images, board, model = "pinhole", camera_out, views_out, json;
   std::string import_ocam;
-  std::string recording, rgb_images, fisheye_images, out;
+  std::string recording, rgb_images, fisheye_images, out, intrinsics;
   int max_views = 40;
 };
 
@@ -88,11 +89,52 @@ void require_views(std::size_t found, std::size_t images, const std::string& whe
 
 void write_views(const fs::path& dir, const std::string& prefix,
                  const std::vector<BoardView>& views, const std::vector<ImageGray8>& images,
-                 const Intrinsics& in) {
+                 const std::vector<ViewFit>& fits) {
   fs::create_directories(dir);
   for (std::size_t i = 0; i < views.size(); ++i)
     write_view_png(dir / (prefix + fs::path(views[i].name).stem().string() + ".png"), images[i],
-                   views[i], in.views[i].reprojected, in.views[i].rms_px);
+                   views[i], fits[i].reprojected, fits[i].rms_px);
+}
+
+// One camera of the rig: calibrated from its views, or given (--intrinsics) and only its
+// board poses found.
+struct CameraSide {
+  std::shared_ptr<const CameraModel> camera;
+  std::vector<ViewFit> fits;  // in the order of the views
+  nlohmann::json json;
+};
+
+CameraSide calibrated_side(const std::string& what, const std::vector<BoardView>& views,
+                           std::size_t images, const std::string& where, LensModel model) {
+  require_views(views.size(), images, what + " in " + where);
+  const Intrinsics in = calibrate_intrinsics(views, model);
+  print_intrinsics(what, in);
+  return {in.camera(), in.views, intrinsics_json(in)};
+}
+
+CameraSide fixed_side(const std::string& what, std::shared_ptr<const CameraModel> camera,
+                      const std::vector<BoardView>& views, const std::string& file) {
+  CameraSide side{std::move(camera), {}, {}};
+  nlohmann::json json_views = nlohmann::json::array();
+  double sum = 0;
+  std::size_t n = 0;
+  for (const BoardView& v : views) {
+    ViewFit fit = fit_board_pose(*side.camera, v);
+    json_views.push_back({{"file", v.name}, {"rms_px", fit.rms_px}, {"corners", fit.corners}});
+    sum += fit.rms_px * fit.rms_px * fit.corners;
+    n += static_cast<std::size_t>(fit.corners);
+    side.fits.push_back(std::move(fit));
+  }
+  const double rms = n ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+  std::cout << fmt::format(
+      "{} ({}, {}x{}): as given by {}; board poses RMS {:.3f} px over {} views\n", what,
+      side.camera->kind(), side.camera->width(), side.camera->height(), file, rms, views.size());
+  side.json = {{"model", side.camera->kind()},
+               {"given_by", file},
+               {"rms_px", rms},
+               {"views_used", views.size()},
+               {"views", json_views}};
+  return side;
 }
 
 void import_ocam(const Options& o) {
@@ -120,7 +162,7 @@ void calibrate_camera(const Options& o) {
   require_views(views.size(), files.size(), o.images);
   const Intrinsics in = calibrate_intrinsics(views, *model);
   print_intrinsics("camera", in);
-  if (!o.views_out.empty()) write_views(o.views_out, "", views, images, in);
+  if (!o.views_out.empty()) write_views(o.views_out, "", views, images, in.views);
   if (!o.camera_out.empty()) std::cout << write_camera_toml(o.camera_out, in.camera()) << "\n";
   if (!o.json.empty()) write_json_report(o.json, intrinsics_json(in));
 }
@@ -160,12 +202,19 @@ void calibrate_rig(const Options& o) {
     }
   }
   const std::string source = o.recording.empty() ? o.rgb_images : o.recording;
-  require_views(rgb_views.size(), pairs.size(), "the colour camera in " + source);
-  require_views(fisheye_views.size(), pairs.size(), "the fisheye in " + source);
-  const Intrinsics rgb = calibrate_intrinsics(rgb_views, LensModel::Pinhole);
-  print_intrinsics("colour camera", rgb);
-  const Intrinsics fisheye = calibrate_intrinsics(fisheye_views, LensModel::KannalaBrandt);
-  print_intrinsics("fisheye", fisheye);
+  CameraSide rgb, fisheye;
+  if (!o.intrinsics.empty()) {
+    const RigCalibration given = replay::load_rig_calibration(o.intrinsics);
+    if (!given.fisheye)
+      throw CommandError(o.intrinsics + " has no [fisheye]: --intrinsics needs both cameras");
+    rgb = fixed_side("colour camera", std::make_shared<PinholeCamera>(given.rgb), rgb_views,
+                     o.intrinsics);
+    fisheye = fixed_side("fisheye", given.fisheye, fisheye_views, o.intrinsics);
+  } else {
+    rgb = calibrated_side("colour camera", rgb_views, pairs.size(), source, LensModel::Pinhole);
+    fisheye =
+        calibrated_side("fisheye", fisheye_views, pairs.size(), source, LensModel::KannalaBrandt);
+  }
 
   std::map<std::string, std::size_t> fisheye_index;
   for (std::size_t i = 0; i < fisheye_views.size(); ++i) fisheye_index[fisheye_views[i].name] = i;
@@ -175,11 +224,11 @@ void calibrate_rig(const Options& o) {
     if (it == fisheye_index.end()) continue;
     const BoardView& f = fisheye_views[it->second];
     stereo.push_back({rgb_views[i].name, rgb_views[i].points, rgb_views[i].pixels, f.points,
-                      f.pixels, rgb.views[i].T_camera_board,
-                      fisheye.views[it->second].T_camera_board});
+                      f.pixels, rgb.fits[i].T_camera_board,
+                      fisheye.fits[it->second].T_camera_board});
   }
-  const auto rgb_camera = rgb.camera();
-  const auto fisheye_camera = fisheye.camera();
+  const auto rgb_camera = rgb.camera;
+  const auto fisheye_camera = fisheye.camera;
   const RigExtrinsics ext = solve_rig_extrinsics(*rgb_camera, *fisheye_camera, stereo);
   const Eigen::Vector3d& t = ext.T_rgb_fisheye.translation;
   const int used = static_cast<int>(
@@ -192,7 +241,8 @@ void calibrate_rig(const Options& o) {
       ext.rgb_rms_px, ext.fisheye_rms_px, ext.initial_rms_px, used, stereo.size());
 
   RigCalibration rig;
-  rig.rgb = rgb.pinhole();
+  if (const auto* pinhole = dynamic_cast<const PinholeCamera*>(rgb_camera.get()))
+    rig.rgb = *pinhole;
   rig.fisheye = fisheye_camera;
   rig.T_rig_rgb = Pose::identity();  // the rig frame is the colour camera's
   rig.T_rig_fisheye = ext.T_rgb_fisheye;
@@ -200,8 +250,8 @@ void calibrate_rig(const Options& o) {
   write_rig_toml(o.out, rig);
   std::cout << "wrote " << o.out << "\n";
   if (!o.views_out.empty()) {
-    write_views(o.views_out, "colour_", rgb_views, rgb_images, rgb);
-    write_views(o.views_out, "fisheye_", fisheye_views, fisheye_images, fisheye);
+    write_views(o.views_out, "colour_", rgb_views, rgb_images, rgb.fits);
+    write_views(o.views_out, "fisheye_", fisheye_views, fisheye_images, fisheye.fits);
   }
   if (!o.json.empty()) {
     nlohmann::json views = nlohmann::json::array();
@@ -210,8 +260,8 @@ void calibrate_rig(const Options& o) {
                        {"rgb_rms_px", v.rgb_rms_px},
                        {"fisheye_rms_px", v.fisheye_rms_px},
                        {"used", v.used}});
-    write_json_report(o.json, {{"rgb", intrinsics_json(rgb)},
-                               {"fisheye", intrinsics_json(fisheye)},
+    write_json_report(o.json, {{"rgb", rgb.json},
+                               {"fisheye", fisheye.json},
                                {"T_rig_rgb", pose_json(rig.T_rig_rgb)},
                                {"T_rig_fisheye", pose_json(rig.T_rig_fisheye)},
                                {"initial_T_rig_fisheye", pose_json(ext.initial_T_rgb_fisheye)},
@@ -233,6 +283,8 @@ void run(const Options& o) {
     throw CommandError(
         "calibrate takes one of --images DIR (one camera), --import-ocam FILE, --recording DIR "
         "or --rgb-images DIR with --fisheye-images DIR (the rig)");
+  if (!o.intrinsics.empty() && o.recording.empty() && o.rgb_images.empty())
+    throw CommandError("--intrinsics goes with --recording or --rgb-images (the rig)");
   if (o.import_ocam.empty() && o.board.empty())
     throw CommandError(
         "--board SPEC is needed (e.g. charuco:5x7:40:20:6x6_250 or "
@@ -281,6 +333,9 @@ void add_calibrate_command(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(3, 1000));
   cmd->add_option("--out", o->out, "The rig calibration TOML to write");
+  cmd->add_option("--intrinsics", o->intrinsics,
+                  "The rig: take both cameras' models from this rig calibration TOML (e.g. an "
+                  "imported OCamCalib fisheye) and solve the extrinsics only");
   cmd->add_option("--views-out", o->views_out,
                   "Write a PNG per view: detected corners (green) and reprojections (red)");
   cmd->add_option("--json", o->json, "Write the result as JSON");
