@@ -23,7 +23,7 @@ std::string fisheye_table(const std::shared_ptr<const CameraModel>& fisheye) {
   const auto end = text.find("\n[extrinsics]");
   return "# probeless fisheye calibration: the [fisheye] table of a rig calibration\n"
          "# (docs/camera-models.md); write it into the rig's calibration.toml.\n\n" +
-         text.substr(begin, end - begin);
+         text.substr(begin, end - begin) + "\n";
 }
 
 void write_text(const std::filesystem::path& path, const std::string& text) {

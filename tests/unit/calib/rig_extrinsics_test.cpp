@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include "core/camera/kannala_brandt.hpp"
 #include "core/camera/pinhole.hpp"
 #include "lab/calib/intrinsics.hpp"
@@ -69,6 +71,7 @@ TEST(RigExtrinsics, RecoversTheFisheyePoseWithin2MmAnd0_2Degrees) {
 
   const double t_err = (ext.T_rgb_fisheye.translation - rig.T_rgb_fisheye.translation).norm();
   const double r_err = rotation_error_deg(ext.T_rgb_fisheye, rig.T_rgb_fisheye);
+  std::cout << "T_rgb_fisheye error: " << t_err * 1000 << " mm, " << r_err << " deg\n";
   EXPECT_LT(t_err, 0.002) << "translation error " << t_err * 1000 << " mm";
   EXPECT_LT(r_err, 0.2) << "rotation error " << r_err << " deg";
   // The refinement must do better than the initial estimate from jittered per-view poses.
