@@ -151,7 +151,8 @@ RigExtrinsics solve_rig_extrinsics(const CameraModel& rgb, const CameraModel& fi
   const Eigen::Index n = 6 + 6 * static_cast<Eigen::Index>(views.size());
   constexpr double kStep = 1e-7;  // radians / metres
   double lambda = 1e-3;
-  for (int iteration = 0; iteration < 100; ++iteration) {
+  bool converged = false;
+  for (int iteration = 0; iteration < 100 && !converged; ++iteration) {
     Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
     Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
     for (std::size_t i = 0; i < views.size(); ++i) {
@@ -202,7 +203,7 @@ RigExtrinsics solve_rig_extrinsics(const CameraModel& rgb, const CameraModel& fi
         lambda = std::max(lambda / 10, 1e-12);
         improved = true;
         out.iterations = iteration + 1;
-        if (gain < 1e-12 || delta.norm() < 1e-12) iteration = 100;  // converged
+        converged = gain < 1e-12 || delta.norm() < 1e-12;
       } else {
         lambda *= 10;
       }
