@@ -17,7 +17,7 @@ std::optional<std::string> lab_command(int argc, char** argv) {
       continue;
     }
     if (arg.starts_with("-")) continue;
-    if (arg == "eval" || arg == "bench") return std::string(arg);
+    if (arg == "eval" || arg == "bench" || arg == "calibrate") return std::string(arg);
     return std::nullopt;  // the first command word is the appliance's own
   }
   return std::nullopt;
@@ -39,7 +39,8 @@ std::string exec_lab(char** argv, const std::string& command) {
     tried += fmt::format("\n  {}: {}", path.string(), std::strerror(errno));
   }
   return fmt::format(
-      "'probeless {}' is a development command of the lab (the probeless-lab package), which "
+      "'probeless {}' is a command of the lab (the probeless-lab package: apt install "
+      "probeless-lab), which "
       "is not installed here; looked for:{}",
       command, tried);
 }

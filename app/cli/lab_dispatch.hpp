@@ -1,8 +1,8 @@
 #pragma once
-// `probeless eval ...` and `probeless bench ...` live in the lab (docs/architecture.md "The
-// lab"), a binary of their own so that the appliance never links the evaluators or OpenCV.
-// The appliance's main hands those commands on, as git does with its subcommands: same
-// arguments, same exit code, same output.
+// `probeless eval ...`, `probeless bench ...` and `probeless calibrate ...` live in the lab
+// (docs/architecture.md "The lab"), a binary of their own so that the appliance never links the
+// evaluators or OpenCV. The appliance's main hands those commands on, as git does with its
+// subcommands: same arguments, same exit code, same output.
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -10,7 +10,8 @@
 
 namespace probeless::cli {
 
-// "eval" or "bench" when that is the command argv names (after the global options), else none.
+// "eval", "bench" or "calibrate" when that is the command argv names (after the global options),
+// else none.
 std::optional<std::string> lab_command(int argc, char** argv);
 
 // Where the lab binary may be, in order: beside this binary (the build tree), then

@@ -1,4 +1,4 @@
-// probeless: the appliance's command line. The lab's `eval` and `bench` are handed on to
+// probeless: the appliance's command line. The lab's `eval`, `bench` and `calibrate` go to
 // probeless-lab (lab/cli/main.cpp, app/cli/lab_dispatch.hpp). Commands register themselves
 // (app/cli/commands.hpp); errors are caught once, in run_command_line().
 #include <spdlog/spdlog.h>
@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
     a.add_subcommand("bench", "Benchmarks that print numbers (the lab: probeless-lab)")
         ->allow_extras();
     a.add_subcommand("eval", "Evaluations against ground truth (the lab: probeless-lab)")
+        ->allow_extras();
+    a.add_subcommand("calibrate",
+                     "Camera and rig calibration from board views (the lab: probeless-lab)")
         ->allow_extras();
   });
 }

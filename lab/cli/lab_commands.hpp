@@ -42,4 +42,9 @@ void add_eval_marker_command(CLI::App& eval);
 // (eval_tracking_command.cpp)
 void add_eval_tracking_command(CLI::App& eval);
 
+// probeless calibrate --images DIR --board SPEC [--model M --camera-out F --json F] | --import-ocam
+// FILE --camera-out F | --recording DIR | --rgb-images D --fisheye-images D ... --out F
+// (calibrate_command.cpp)
+void add_calibrate_command(CLI::App& app);
+
 }  // namespace probeless::cli

@@ -25,5 +25,6 @@ int main(int argc, char** argv) {
     probeless::cli::add_eval_sh_command(*eval);
     probeless::cli::add_eval_marker_command(*eval);
     probeless::cli::add_eval_tracking_command(*eval);
+    probeless::cli::add_calibrate_command(a);
   });
 }
