@@ -1,12 +1,14 @@
 #include "drivers/sim/sim_rig.hpp"
 
 #include <charconv>
+#include <fstream>
 #include <map>
 #include <mutex>
 #include <stdexcept>
 #include <string>
 
 #include "core/camera/kannala_brandt.hpp"
+#include "core/camera/ocam.hpp"
 #include "core/depth_noise.hpp"
 #include "drivers/sim/sim_sources.hpp"
 
@@ -111,6 +113,9 @@ SimOptions parse_sim_options(std::string_view spec) {
       if (o.fisheye_bit_depth != 8 && o.fisheye_bit_depth != 12) bad(key, value, "8 or 12");
     } else if (key == "fisheye_fov") {
       o.fisheye_fov_deg = parse_positive(key, value, 240);
+    } else if (key == "fisheye_ocam") {
+      if (value.empty()) bad(key, value, "the path of an OCamCalib calib_results.txt");
+      o.fisheye_ocam = std::string(value);
     } else if (key == "prerender") {
       o.prerender = parse_number<std::int64_t>(key, value, "a frame count");
       if (o.prerender < 0 || o.prerender > 100000) bad(key, value, "0..100000 frames");
@@ -134,13 +139,31 @@ SimOptions parse_sim_options(std::string_view spec) {
       throw std::invalid_argument(
           "sim option '" + std::string(key) +
           "': unknown (known: seed, trajectory, fps, rgbd_fps, fisheye_fps, realtime, "
-          "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, frames, prerender, stall, "
+          "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam, frames, "
+          "prerender, stall, "
           "truth, "
           "threads, start)");
     }
   }
   return o;
 }
+
+namespace {
+
+// An OCamCalib calib_results.txt (a few hundred bytes; anything past 64 KiB is not one).
+std::shared_ptr<const CameraModel> read_ocam_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::invalid_argument("sim: fisheye_ocam: cannot open " + path);
+  std::string text(64 * 1024 + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > 64 * 1024)
+    throw std::invalid_argument("sim: fisheye_ocam: " + path +
+                                " is larger than 64 KiB, not an OCamCalib calib_results.txt");
+  return std::make_shared<const OCamCamera>(OCamCamera::parse(text, path));
+}
+
+}  // namespace
 
 Rig make_sim_rig(const SimOptions& options) {
   if (!(options.rgbd_fps > 0) || !(options.fisheye_fps > 0))
@@ -152,8 +175,11 @@ Rig make_sim_rig(const SimOptions& options) {
   Rig rig;
   PinholeIntrinsics k;  // 640 x 480, f 525, centre (319.5, 239.5)
   rig.calibration.rgb = PinholeCamera(k);
-  auto fisheye = std::make_shared<const KannalaBrandtCamera>(
-      KannalaBrandtCamera::equidistant(options.fisheye_size, options.fisheye_fov_deg));
+  std::shared_ptr<const CameraModel> fisheye =
+      options.fisheye_ocam.empty()
+          ? std::shared_ptr<const CameraModel>(std::make_shared<const KannalaBrandtCamera>(
+                KannalaBrandtCamera::equidistant(options.fisheye_size, options.fisheye_fov_deg)))
+          : read_ocam_file(options.fisheye_ocam);
   rig.calibration.fisheye = fisheye;
   rig.calibration.T_rig_rgb = rgb_in_rig();
   rig.calibration.T_rig_fisheye = fisheye_in_rig();
