@@ -36,6 +36,10 @@ struct SimOptions {
   // fisheye_fov are then unused): a rig calibrated with OCamCalib, for light capture's
   // model-independent path (docs/light-capture.md).
   std::string fisheye_ocam;
+  // With fisheye_ocam: false renders and calibrates the rig with the OCamCalib model itself;
+  // true with a Kannala-Brandt model least-squares fitted to it (the same lens through the
+  // other model, so `eval light` compares the two models on one field of view).
+  bool fisheye_ocam_as_kannala_brandt = false;
   std::int64_t max_frames = -1;  // then EndOfStream (RGB-D frames count); -1: endless
   // Fault injection for service tests: frames [stall_begin, stall_end) of the RGB-D stream are
   // not delivered: read() returns NoFrameYet and state() says NoSignal during that span (as
@@ -58,7 +62,8 @@ struct SimOptions {
 // "sim:"); throws std::invalid_argument naming the bad key. Keys: seed, trajectory
 // (static|orbit|handheld), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_realtime,
 // fisheye_size,
-// fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file), frames (max_frames), stall
+// fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file), fisheye_ocam_model (ocam or
+// kannala_brandt: that lens fitted), frames (max_frames), stall
 // (BEGIN:END), truth, threads, start (seconds of world time at the first frame).
 SimOptions parse_sim_options(std::string_view spec);
 
