@@ -55,9 +55,10 @@ EnvmapUpdate::EnvmapUpdate(ComputeContext& ctx, const UpdateParams& params,
 void EnvmapUpdate::check_frame(const FisheyeView& view, int width, int height) {
   if (view.lut && (view.lut->image_width != width || view.lut->image_height != height))
     throw std::invalid_argument(
-        "EnvmapUpdate: a " + std::to_string(width) + " x " + std::to_string(height) +
-        " fisheye frame, but the camera model is " + std::to_string(view.lut->image_width) + " x " +
-        std::to_string(view.lut->image_height));
+        "the fisheye source's frames are " + std::to_string(width) + " x " +
+        std::to_string(height) + ", but the calibration's fisheye (" + view.lut->model + ") is " +
+        std::to_string(view.lut->image_width) + " x " + std::to_string(view.lut->image_height) +
+        " (calibrate at the size the camera runs at, or set its size= to the calibration's)");
 }
 
 void EnvmapUpdate::check(const DeviceImage<float, 4>& texels,

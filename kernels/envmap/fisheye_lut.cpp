@@ -70,6 +70,7 @@ std::shared_ptr<const FisheyeLut> build_fisheye_lut(const CameraModel& camera, f
   auto lut = std::make_shared<FisheyeLut>();
   lut->image_width = camera.width();
   lut->image_height = camera.height();
+  lut->model = camera.kind();
   const double scale = axial_focal_length(camera) / cell_px;
   const double limit = domain_limit(camera);
   lut->scale = static_cast<float>(scale);

@@ -15,6 +15,7 @@
 // distorted Kannala-Brandt, OCamCalib or Brown lens the map is smooth and two-pixel cells
 // leave under 0.01 px (tests/kernels/envmap/fisheye_lut_test.cpp).
 #include <memory>
+#include <string>
 
 #include "core/camera/camera_model.hpp"
 #include "core/image.hpp"
@@ -35,6 +36,7 @@ struct FisheyeLut {
   float max_theta = 0;
   Image<float, 2> pixel;                  // (u, v) per cell, or kInvalid
   int image_width = 0, image_height = 0;  // the camera's frame size
+  std::string model;                      // CameraModel::kind(), for errors
 };
 
 // Builds the table from any camera model. cell_px: about how many fisheye pixels one cell

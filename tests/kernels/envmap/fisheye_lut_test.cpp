@@ -12,7 +12,9 @@
 #include "core/camera/kannala_brandt.hpp"
 #include "core/camera/ocam.hpp"
 #include "core/camera/pinhole.hpp"
+#include "kernels/envmap/envmap_update.hpp"
 #include "kernels/envmap/envmap_update_reference.hpp"
+#include "support/cl_context.hpp"
 #include "tests/kernels/envmap/envmap_test_support.hpp"
 #include "tests/support/test_data.hpp"
 
@@ -99,6 +101,25 @@ TEST(FisheyeLut, RejectsBadCells) {
   const auto camera = KannalaBrandtCamera::equidistant(64, 190);
   EXPECT_THROW(build_fisheye_lut(camera, 0.0F), std::invalid_argument);
   EXPECT_THROW(build_fisheye_lut(camera, 100.0F), std::invalid_argument);
+}
+
+// A fisheye source at another size than its calibration: sampled at the wrong pixels without
+// any sign, so the update refuses it, naming both sizes and the model.
+TEST(FisheyeLut, AFrameOfAnotherSizeIsAnErrorNamingBoth) {
+  auto& ctx = ::probeless::testing::cl_context();
+  EnvmapUpdate stage(ctx);
+  const FisheyeView view = testing::view_of(KannalaBrandtCamera::equidistant(128, 190),
+                                            testing::upward_R_camera_world());
+  const DeviceImage<float, 4> frame(ctx, ImageRGBAF(160, 120));
+  DeviceImage<float, 4> texels(ctx, make_texels(8)), pending(ctx, make_texels(8));
+  try {
+    stage.update(frame, view, false, texels, pending);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("160 x 120"), std::string::npos) << what;
+    EXPECT_NE(what.find("kannala_brandt) is 128 x 128"), std::string::npos) << what;
+  }
 }
 
 }  // namespace
