@@ -172,8 +172,8 @@ std::shared_ptr<const OCamCamera> read_ocam_file(const std::string& path) {
 
 // A Kannala-Brandt model of the lens `ocam` describes: the same centre and image, and the
 // radius of each angle from the axis least-squares fitted by f theta (1 + k1 theta^2 + ... +
-// k4 theta^8) over the angles the model covers (on the shared sample file: 0.066 px RMS, 0.13 px at
-// most inside the frame; tests/unit/sim/sim_ocam_test.cpp).
+// k4 theta^8) over the angles the model covers (the shared sample file: 0.066 px RMS, 0.13 px
+// at most inside the frame; tests/unit/sim/sim_ocam_test.cpp).
 std::shared_ptr<const CameraModel> kannala_brandt_fit(const OCamCamera& ocam) {
   const auto centre = ocam.project(Eigen::Vector3d(0, 0, 1));
   if (!centre) throw std::invalid_argument("sim: fisheye_ocam: the model misses its axis");
