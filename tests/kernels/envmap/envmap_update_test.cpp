@@ -148,7 +148,8 @@ INSTANTIATE_TEST_SUITE_P(Rules, EnvmapUpdateTest,
                          });
 
 // The reference's projection (a polynomial arctangent and the fisheye table, as the kernel's)
-// lands where core's KannalaBrandtCamera::project does: sampling a linear ramp image returns the pixel position.
+// lands where core's KannalaBrandtCamera::project does: sampling a linear ramp image returns
+// the pixel position.
 TEST(EnvmapUpdateReference, ProjectsLikeTheCameraModel) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> u(-1, 1);
