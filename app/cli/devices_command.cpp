@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/cli/commands.hpp"
+#include "app/cli/devices_board.hpp"
 #include "app/cli/devices_libcamera.hpp"
 #include "app/cli/devices_rgbd.hpp"
 #include "app/outputs/display/drm_inventory.hpp"
@@ -183,6 +184,11 @@ void print_rgbd(std::ostream& out, const DevicesOptions& opts) {
   print_rgbd_sensors(out, options.usb_vendors);
 }
 
+// What the resolved config (and board) needs that this machine does not have yet.
+void print_config_needs(std::ostream& out, const DevicesOptions& opts) {
+  print_needs(out, load_service_config(opts.config_path, opts.board));
+}
+
 void print_libcamera(std::ostream& out, const DevicesOptions&) {
   print_libcamera_cameras(out);
 }
@@ -200,7 +206,7 @@ void add_devices_command(CLI::App& app) {
   cmd->callback([opts] {
     // One function per section; cameras and display connectors join this list.
     const std::vector<std::function<void(std::ostream&, const DevicesOptions&)>> sections{
-        print_opencl, print_rgbd, print_libcamera, print_gpio, print_display};
+        print_opencl, print_rgbd, print_libcamera, print_gpio, print_display, print_config_needs};
     for (std::size_t i = 0; i < sections.size(); ++i) {
       if (i > 0) std::cout << '\n';
       sections[i](std::cout, *opts);

@@ -34,7 +34,7 @@ FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration
       ctx_(make_context(config)),
       render_(make_scene_objects(config.objects, config.ground, default_prt_cache_dir()),
               calibration.rgb.intrinsics(), std::move(light)),
-      upload_(*ctx_),
+      upload_(*ctx_, calibration.rgb),
       occlusion_(*ctx_, occlusion::make_method(*ctx_, config.occlusion_method)),
       composite_(*ctx_),
       download_(*ctx_, keep_matte) {}

@@ -1,6 +1,9 @@
 #include "app/pipeline/frame_stages.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <stdexcept>
 
 #include "app/pipeline/scene_objects.hpp"
 
@@ -40,10 +43,38 @@ VirtualLayer RenderStage::process(const Pose& T_world_camera) {
   return {hdr, &view_.depth_mm};
 }
 
+UploadStage::UploadStage(ComputeContext& ctx, const PinholeCamera& rgb)
+    : ctx_(ctx), width_(rgb.width()), height_(rgb.height()) {
+  if (const auto map = build_undistort_map(rgb)) undistort_.emplace(ctx, *map);
+}
+
+namespace {
+
+// A source at another resolution than the calibration would be drawn over at the wrong
+// pixels without a sign of it: say which two sizes disagree.
+void check_size(const char* what, int w, int h, int want_w, int want_h) {
+  if (w != want_w || h != want_h)
+    throw std::invalid_argument(fmt::format(
+        "the source's {} frames are {} x {}, but the calibration's colour camera is {} x {} "
+        "(calibrate at the size the source runs at, or set its size= to the calibration's)",
+        what, w, h, want_w, want_h));
+}
+
+}  // namespace
+
 DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& layer) {
   auto& q = ctx_.queue();
-  colour_.upload(q, frame.colour, false);
-  real_depth_.upload(q, frame.depth, false);
+  check_size("colour", frame.colour.width(), frame.colour.height(), width_, height_);
+  check_size("depth", frame.depth.width(), frame.depth.height(), width_, height_);
+  if (undistort_) {
+    raw_colour_.upload(q, frame.colour, false);
+    raw_depth_.upload(q, frame.depth, false);
+    undistort_->colour(raw_colour_, colour_);
+    undistort_->depth(raw_depth_, real_depth_);
+  } else {
+    colour_.upload(q, frame.colour, false);
+    real_depth_.upload(q, frame.depth, false);
+  }
   DeviceFrame out{&colour_, &real_depth_, {}, &virtual_depth_};
   if (const auto* hdr = std::get_if<HdrRadiance>(&layer.colour)) {
     virtual_radiance_.upload(q, *hdr->radiance, false);

@@ -14,6 +14,7 @@
 // upload and download.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -27,6 +28,7 @@
 #include "kernels/occlusion/common/occlusion_method.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_image.hpp"
+#include "kernels/undistort/undistort.hpp"
 
 namespace probeless {
 
@@ -92,16 +94,27 @@ class RenderStage {
   render::RenderTarget view_;  // host: RGBA8 colour or float radiance, + depth in mm
 };
 
-// Host -> device: the real frame and the rendered virtual layer.
+// Host -> device: the real frame and the rendered virtual layer. The renderer draws with the
+// colour camera's pinhole without distortion; with Brown distortion in the calibration the
+// colour (bilinear) and the depth registered to it (nearest) are remapped on the device to
+// that pinhole (kernels/undistort), so the matte, the composite and the renderer agree pixel
+// for pixel. Without distortion nothing is remapped: the upload is the copy it always was.
 class UploadStage {
  public:
-  explicit UploadStage(ComputeContext& ctx) : ctx_(ctx) {}
+  UploadStage(ComputeContext& ctx, const PinholeCamera& rgb);
   static constexpr const char* name = "upload";
-  // Non-blocking writes: `frame` and `layer`'s images must live until the download.
+  // Non-blocking writes: `frame` and `layer`'s images must live until the download. A frame
+  // whose colour or depth is not the calibration's colour camera size is an
+  // std::invalid_argument naming both.
   DeviceFrame process(const RgbdFrame& frame, const VirtualLayer& layer);
+  bool undistorts() const { return undistort_.has_value(); }
 
  private:
   ComputeContext& ctx_;
+  int width_, height_;  // the calibration's colour camera
+  std::optional<Undistort> undistort_;
+  DeviceImageRGB8 raw_colour_;  // as the camera delivered it, when undistorting
+  DeviceDepthImage raw_depth_;
   DeviceImageRGB8 colour_;
   DeviceDepthImage real_depth_;
   DeviceImageRGBA8 virtual_colour_;

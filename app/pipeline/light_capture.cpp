@@ -6,7 +6,6 @@
 #include <chrono>
 
 #include "app/pipeline/scene_objects.hpp"
-#include "core/camera/kannala_brandt.hpp"
 #include "kernels/envmap/keyframe_reprojection.hpp"
 #include "kernels/hdr/colour_exposure.hpp"
 #include "kernels/light/colour_fill.hpp"
@@ -51,14 +50,6 @@ envmap::ImageRGBAF box_average(const envmap::ImageRGBAF& texels, int m) {
   return out;
 }
 
-const KannalaBrandtCamera& kannala_brandt(const RigCalibration& calibration) {
-  const auto* kb = dynamic_cast<const KannalaBrandtCamera*>(calibration.fisheye.get());
-  if (!kb)
-    throw std::invalid_argument(
-        "light capture: the fisheye model must be Kannala-Brandt (the update kernel's model)");
-  return *kb;
-}
-
 // [light] room (docs/configuration.md): the room box parallax takes, if any.
 std::optional<envmap::RoomBox> room_of(const ServiceConfig& c, const RigScene& scene) {
   if (c.light_room == "box") return envmap::RoomBox{c.light_room_min, c.light_room_max};
@@ -90,7 +81,8 @@ struct LightCapture::Estimator {
 LightCapture::LightCapture(const ServiceConfig& config, const RigCalibration& calibration,
                            const RigScene& scene)
     : config_(config), calibration_(calibration), estimator_(std::make_unique<Estimator>()) {
-  (void)kannala_brandt(calibration_);  // fail at start, not on the first frame
+  if (!calibration_.fisheye)
+    throw std::invalid_argument("light capture: the rig calibration has no fisheye model");
   room_ = room_of(config_, scene);
   // The objects are lit from the keyframe nearest to them (thesis ch. 6): their mean position,
   // each placed as scene_objects.cpp places it.
@@ -167,7 +159,7 @@ bool LightCapture::initialise() {
     lc.room = room_;
     if (lc.room && !config_.objects.empty()) lc.sh_position = light_point_;
     estimator_->light = std::make_unique<light::LightEstimator>(
-        *estimator_->ctx, kannala_brandt(calibration_).params(), calibration_.T_rig_fisheye, lc);
+        *estimator_->ctx, *calibration_.fisheye, calibration_.T_rig_fisheye, lc);
     estimator_->sh = std::make_unique<light::ShProjector>(kShFaceSize);
     if (config_.light_face_size % kShFaceSize != 0)
       throw std::invalid_argument(fmt::format("light capture: face size {} is not a multiple of {}",

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
 
 #include "drivers/source.hpp"
@@ -30,6 +31,15 @@ struct SimOptions {
   int fisheye_size = 512;      // square image, 64..1024
   int fisheye_bit_depth = 12;  // 8 or 12
   double fisheye_fov_deg = 190;
+  // Non-empty: the fisheye is this OCamCalib calibration (calib_results.txt) instead of the
+  // ideal equidistant lens, rendered through it at its own frame size (fisheye_size and
+  // fisheye_fov are then unused): a rig calibrated with OCamCalib, for light capture's
+  // model-independent path (docs/light-capture.md).
+  std::string fisheye_ocam;
+  // With fisheye_ocam: false renders and calibrates the rig with the OCamCalib model itself;
+  // true with a Kannala-Brandt model least-squares fitted to it (the same lens through the
+  // other model, so `eval light` compares the two models on one field of view).
+  bool fisheye_ocam_as_kannala_brandt = false;
   std::int64_t max_frames = -1;  // then EndOfStream (RGB-D frames count); -1: endless
   // Fault injection for service tests: frames [stall_begin, stall_end) of the RGB-D stream are
   // not delivered: read() returns NoFrameYet and state() says NoSignal during that span (as
@@ -52,8 +62,9 @@ struct SimOptions {
 // "sim:"); throws std::invalid_argument naming the bad key. Keys: seed, trajectory
 // (static|orbit|handheld), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_realtime,
 // fisheye_size,
-// fisheye_bits, fisheye_fov, frames (max_frames), stall (BEGIN:END), truth, threads, start
-// (seconds of world time at the first frame).
+// fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file), fisheye_ocam_model (ocam or
+// kannala_brandt: that lens fitted), frames (max_frames), stall
+// (BEGIN:END), truth, threads, start (seconds of world time at the first frame).
 SimOptions parse_sim_options(std::string_view spec);
 
 // Rig from drivers/source.hpp (rgbd + fisheye + calibration, and its scene: object_anchor()

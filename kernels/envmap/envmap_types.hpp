@@ -13,12 +13,13 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <memory>
 #include <optional>
 
-#include "core/camera/kannala_brandt.hpp"
 #include "core/cubemap.hpp"
 #include "core/image.hpp"
 #include "core/room_box.hpp"
+#include "kernels/envmap/fisheye_lut.hpp"
 
 namespace probeless::envmap {
 
@@ -63,14 +64,14 @@ using ::probeless::RoomBox;
 // Throws std::invalid_argument unless lo < hi in every axis (all finite).
 void validate(const RoomBox& room);
 
-// The fisheye as the update kernel sees it: Kannala-Brandt (the sim's equidistant fisheye is
-// the k = 0 case) and the rotation from the world into the camera frame. Without a room box
-// the environment is taken as distant: the camera's offset from the keyframe's position is
+// The fisheye as the update kernel sees it: its lookup table (fisheye_lut.hpp: any camera
+// model, built once per camera) and the rotation from the world into the camera frame. Without a
+// room box the environment is taken as distant: the camera's offset from the keyframe's position is
 // ignored and a texel is its direction. With one, the texel's direction from
 // keyframe_position hits the box at a world point p, and the fisheye looks at p from
 // `position`, so every frame of a keyframe agrees on what the keyframe's position sees.
 struct FisheyeView {
-  KannalaBrandtParams camera;
+  std::shared_ptr<const FisheyeLut> lut;
   Eigen::Matrix3d R_camera_world = Eigen::Matrix3d::Identity();
   std::optional<RoomBox> room;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();           // the fisheye's centre, world

@@ -2,8 +2,10 @@
 // updates 16 neighbouring texels of one row of the n x 6n texel image (face = row / n): their
 // world directions (with a room box: the direction from the fisheye's centre to where the
 // texel's ray from the keyframe's position leaves the box), rotated into the fisheye's frame,
-// projected through the Kannala-Brandt model, bilinearly sampled, then merged by the selected
-// rule. envmap_update_reference.cpp mirrors every step in float, lane by lane.
+// projected through the camera's lookup table (fisheye_lut.hpp: indexed by the ideal
+// equidistant projection, holding the real model's pixel, so any model works), bilinearly
+// sampled, then merged by the selected rule. envmap_update_reference.cpp mirrors every step in
+// float, lane by lane.
 //
 // Why 16 texels per work-item in explicit float16 code, with selects and unconditional loads:
 // PoCL 3.1 ran the one-texel-per-work-item version as scalar code (no vectorisation across
@@ -23,6 +25,8 @@
 #define RULE_BEST_SCORE 1
 #define LANES 16
 #define INLINE inline __attribute__((always_inline))
+// fisheye_lut.hpp's FisheyeLut::kInvalid is -1e6: a real pixel is far above this.
+#define LUT_VALID_ABOVE -1.0e5f
 
 // OpenGL cube map face coordinates -> directions (not normalised; core/cubemap.cpp), for 16
 // lanes of one row: sc = 2u - 1 per lane, tc = 2v - 1 shared.
@@ -72,11 +76,13 @@ INLINE float16 polar_angle(float16 r, float16 z) {
 
 // The geometry of the 16 texels x0 .. x0 + 15 of `row`: the top-left pixel of each bilinear
 // footprint (pixel centres on integers) and its weights. Returns the lanes the fisheye sees
-// (within max_theta, footprint inside the image, x < n); other lanes get footprint (0, 0),
-// so that every load stays inside the image.
-INLINE int16 footprints(int n, int row, int x0, float4 r0, float4 r1, float4 r2, float4 f, float4 k,
-                        float max_theta, int parallax, float4 box_lo, float4 box_hi, float4 offset,
-                        int width, int height, int16* px, int16* py, float16* ax, float16* ay) {
+// (the four table cells around the direction valid, footprint inside the image, x < n); other
+// lanes get footprint (0, 0), so that every load stays inside the image.
+INLINE int16 footprints(int n, int row, int x0, float4 r0, float4 r1, float4 r2,
+                        __global const float2* lut, int lut_size, float lut_centre, float lut_scale,
+                        float lut_max_theta, int parallax, float4 box_lo, float4 box_hi,
+                        float4 offset, int width, int height, int16* px, int16* py, float16* ax,
+                        float16* ay) {
   const int face = row / n, y = row - face * n;
   const float inv_n = 1.0f / (float)n;
   const float16 xs =
@@ -103,20 +109,55 @@ INLINE int16 footprints(int n, int row, int x0, float4 r0, float4 r1, float4 r2,
   const float16 cx = r0.x * wx + r0.y * wy + r0.z * wz;
   const float16 cy = r1.x * wx + r1.y * wy + r1.z * wz;
   const float16 cz = r2.x * wx + r2.y * wy + r2.z * wz;
-  // Kannala-Brandt (core/camera/kannala_brandt.cpp); on the axis (r = 0) the centre.
+  // The ideal equidistant projection into the table (fisheye_lut.hpp); on the axis (r = 0)
+  // the table's centre, straight back nothing.
   const float16 r = sqrt(cx * cx + cy * cy);
   const float16 theta = polar_angle(r, cz);
-  const float16 t2 = theta * theta;
-  const float16 theta_d = theta * (1.0f + t2 * (k.x + t2 * (k.y + t2 * (k.z + t2 * k.w))));
-  const float16 s = theta_d / r;
+  const float16 s = lut_scale * theta / r;
   const int16 on_axis = r == 0.0f;
-  const float16 u = select(f.x * s * cx + f.z, (float16)(f.z), on_axis);
-  const float16 v = select(f.y * s * cy + f.w, (float16)(f.w), on_axis);
+  const float16 gx = select(lut_centre + s * cx, (float16)(lut_centre), on_axis);
+  const float16 gy = select(lut_centre + s * cy, (float16)(lut_centre), on_axis);
+  const float16 gx0 = floor(gx), gy0 = floor(gy);
+  const int16 in_table = (theta <= lut_max_theta) & (~on_axis | (cz > 0.0f)) & (gx0 >= 0.0f) &
+                         (gy0 >= 0.0f) & (gx0 + 1.0f < (float)lut_size) &
+                         (gy0 + 1.0f < (float)lut_size);
+  // Lanes outside the table may hold NaN or huge values: zero them before the conversion.
+  const int16 ga = convert_int16(select((float16)(0.0f), gy0, in_table)) * lut_size +
+                   convert_int16(select((float16)(0.0f), gx0, in_table));
+  float16 ua, va, ub, vb, uc, vc, ud, vd;
+#define LUT_LANE(j)                                                            \
+  {                                                                            \
+    const float2 a = lut[ga.s##j], b = lut[ga.s##j + 1];                       \
+    const float2 c = lut[ga.s##j + lut_size], d = lut[ga.s##j + lut_size + 1]; \
+    ua.s##j = a.x, va.s##j = a.y, ub.s##j = b.x, vb.s##j = b.y;                \
+    uc.s##j = c.x, vc.s##j = c.y, ud.s##j = d.x, vd.s##j = d.y;                \
+  }
+  LUT_LANE(0)
+  LUT_LANE(1)
+  LUT_LANE(2)
+  LUT_LANE(3)
+  LUT_LANE(4)
+  LUT_LANE(5)
+  LUT_LANE(6)
+  LUT_LANE(7)
+  LUT_LANE(8)
+  LUT_LANE(9)
+  LUT_LANE(a)
+  LUT_LANE(b)
+  LUT_LANE(c)
+  LUT_LANE(d)
+  LUT_LANE(e)
+  LUT_LANE(f)
+#undef LUT_LANE
+  const int16 cells_valid = (ua > LUT_VALID_ABOVE) & (ub > LUT_VALID_ABOVE) &
+                            (uc > LUT_VALID_ABOVE) & (ud > LUT_VALID_ABOVE);
+  const float16 bx = gx - gx0, by = gy - gy0;
+  const float16 u = (ua + bx * (ub - ua)) + by * ((uc + bx * (ud - uc)) - (ua + bx * (ub - ua)));
+  const float16 v = (va + bx * (vb - va)) + by * ((vc + bx * (vd - vc)) - (va + bx * (vb - va)));
   const float16 fx0 = floor(u), fy0 = floor(v);
   const int16 lane = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  const int16 seen = (theta <= max_theta) & (~on_axis | (cz > 0.0f)) & (fx0 >= 0.0f) &
-                     (fy0 >= 0.0f) & (fx0 + 1.0f < (float)width) & (fy0 + 1.0f < (float)height) &
-                     (lane < n - x0);
+  const int16 seen = in_table & cells_valid & (fx0 >= 0.0f) & (fy0 >= 0.0f) &
+                     (fx0 + 1.0f < (float)width) & (fy0 + 1.0f < (float)height) & (lane < n - x0);
   // Unseen lanes may hold NaN or huge values: zero them before the conversion to int.
   *px = convert_int16(select((float16)(0.0f), fx0, seen));
   *py = convert_int16(select((float16)(0.0f), fy0, seen));
@@ -274,16 +315,16 @@ INLINE void merge_lanes(__global float4* texels, __global float4* pending, int i
 
 __kernel void envmap_update(__global float4* texels, __global float4* pending,
                             __global const float4* image, int width, int height, int n, float4 r0,
-                            float4 r1, float4 r2, float4 focal_centre, float4 k, float max_theta,
-                            int parallax, float4 box_lo, float4 box_hi, float4 offset, int rule,
-                            int publish, float measurement_var, float process_var,
-                            float change_sigma2) {
+                            float4 r1, float4 r2, __global const float2* lut, int lut_size,
+                            float lut_centre, float lut_scale, float lut_max_theta, int parallax,
+                            float4 box_lo, float4 box_hi, float4 offset, int rule, int publish,
+                            float measurement_var, float process_var, float change_sigma2) {
   const int x0 = LANES * get_global_id(0), row = get_global_id(1);
   if (x0 >= n || row >= 6 * n) return;
   int16 px, py;
   float16 ax, ay;
-  int16 ok = footprints(n, row, x0, r0, r1, r2, focal_centre, k, max_theta, parallax, box_lo,
-                        box_hi, offset, width, height, &px, &py, &ax, &ay);
+  int16 ok = footprints(n, row, x0, r0, r1, r2, lut, lut_size, lut_centre, lut_scale, lut_max_theta,
+                        parallax, box_lo, box_hi, offset, width, height, &px, &py, &ax, &ay);
   if (!any(ok)) {  // none of the 16 texels is seen (the floor, below the horizon): no loads
     const float16 zero = (float16)(0.0f);
     merge_lanes(texels, pending, row * n + x0, min(LANES, n - x0), ok, zero, zero, zero, zero, rule,
@@ -320,15 +361,16 @@ __kernel void envmap_update_raw(__global float4* texels, __global float4* pendin
                                 int saturated_signal, int black_margin, float radiance_scale,
                                 float inv_range, int crop, float circle_cx, float circle_cy,
                                 float circle_radius2, int n, float4 r0, float4 r1, float4 r2,
-                                float4 focal_centre, float4 k, float max_theta, int parallax,
-                                float4 box_lo, float4 box_hi, float4 offset, int rule, int publish,
+                                __global const float2* lut, int lut_size, float lut_centre,
+                                float lut_scale, float lut_max_theta, int parallax, float4 box_lo,
+                                float4 box_hi, float4 offset, int rule, int publish,
                                 float measurement_var, float process_var, float change_sigma2) {
   const int x0 = LANES * get_global_id(0), row = get_global_id(1);
   if (x0 >= n || row >= 6 * n) return;
   int16 px, py;
   float16 ax, ay;
-  int16 ok = footprints(n, row, x0, r0, r1, r2, focal_centre, k, max_theta, parallax, box_lo,
-                        box_hi, offset, width, height, &px, &py, &ax, &ay);
+  int16 ok = footprints(n, row, x0, r0, r1, r2, lut, lut_size, lut_centre, lut_scale, lut_max_theta,
+                        parallax, box_lo, box_hi, offset, width, height, &px, &py, &ax, &ay);
   if (!any(ok)) {  // none of the 16 texels is seen (the floor, below the horizon): no loads
     const float16 zero = (float16)(0.0f);
     merge_lanes(texels, pending, row * n + x0, min(LANES, n - x0), ok, zero, zero, zero, zero, rule,

@@ -50,6 +50,17 @@ EnvmapUpdate::EnvmapUpdate(ComputeContext& ctx, const UpdateParams& params,
   raw_ = ctx.kernel("envmap_update", source, {}, "envmap_update_raw");
 }
 
+// A frame of another size than the camera the table was built from would be sampled at the
+// wrong pixels without any error showing: refuse it, naming both.
+void EnvmapUpdate::check_frame(const FisheyeView& view, int width, int height) {
+  if (view.lut && (view.lut->image_width != width || view.lut->image_height != height))
+    throw std::invalid_argument(
+        "the fisheye source's frames are " + std::to_string(width) + " x " +
+        std::to_string(height) + ", but the calibration's fisheye (" + view.lut->model + ") is " +
+        std::to_string(view.lut->image_width) + " x " + std::to_string(view.lut->image_height) +
+        " (calibrate at the size the camera runs at, or set its size= to the calibration's)");
+}
+
 void EnvmapUpdate::check(const DeviceImage<float, 4>& texels,
                          const DeviceImage<float, 4>& pending) {
   if (texels.height() != 6 * texels.width())
@@ -58,15 +69,22 @@ void EnvmapUpdate::check(const DeviceImage<float, 4>& texels,
     throw std::invalid_argument("EnvmapUpdate: pending must match texels");
 }
 
+// The camera's table on the device: uploaded when the view brings a different one (once per
+// estimator in the service, whose fisheye never changes).
+const ::cl::Buffer& EnvmapUpdate::device_lut(const FisheyeView& view) {
+  if (!view.lut || view.lut->size < 2)
+    throw std::invalid_argument("EnvmapUpdate: the view has no fisheye table");
+  if (view.lut != lut_) {
+    lut_device_.upload(ctx_.queue(), view.lut->pixel);
+    lut_ = view.lut;
+  }
+  return lut_device_.buffer();
+}
+
 void EnvmapUpdate::set_view_args(::cl::Kernel& kernel, int a, int n, const FisheyeView& view,
                                  bool publish) {
   const Eigen::Matrix3f r = view.R_camera_world.cast<float>();
   const auto row = [&](int i) { return cl_float4{{r(i, 0), r(i, 1), r(i, 2), 0.0F}}; };
-  const KannalaBrandtParams& c = view.camera;
-  const cl_float4 focal{{static_cast<float>(c.fx), static_cast<float>(c.fy),
-                         static_cast<float>(c.cx), static_cast<float>(c.cy)}};
-  const cl_float4 k{{static_cast<float>(c.k[0]), static_cast<float>(c.k[1]),
-                     static_cast<float>(c.k[2]), static_cast<float>(c.k[3])}};
   const ParallaxConstants p = parallax_constants(view);
   const float sigma2 = params_.measurement_sigma * params_.measurement_sigma;
   const float process2 = params_.process_sigma * params_.process_sigma;
@@ -76,9 +94,11 @@ void EnvmapUpdate::set_view_args(::cl::Kernel& kernel, int a, int n, const Fishe
   kernel.setArg(a++, row(0));
   kernel.setArg(a++, row(1));
   kernel.setArg(a++, row(2));
-  kernel.setArg(a++, focal);
-  kernel.setArg(a++, k);
-  kernel.setArg(a++, static_cast<float>(c.max_theta));
+  kernel.setArg(a++, device_lut(view));
+  kernel.setArg(a++, view.lut->size);
+  kernel.setArg(a++, view.lut->centre);
+  kernel.setArg(a++, view.lut->scale);
+  kernel.setArg(a++, view.lut->max_theta);
   kernel.setArg(a++, p.enabled ? 1 : 0);
   kernel.setArg(a++, float4_of(p.lo));
   kernel.setArg(a++, float4_of(p.hi));
@@ -94,6 +114,7 @@ void EnvmapUpdate::update(const DeviceImage<float, 4>& image, const FisheyeView&
                           DeviceImage<float, 4>& texels, DeviceImage<float, 4>& pending) {
   check(texels, pending);
   if (texels.empty() || image.empty()) return;
+  check_frame(view, image.width(), image.height());
   const int n = texels.width();
   int a = 0;
   converted_.setArg(a++, texels.buffer());
@@ -112,6 +133,7 @@ void EnvmapUpdate::update_raw(const DeviceImage<std::uint16_t, 3>& raw, int bit_
   check(texels, pending);
   const HdrConversionConstants c = hdr_conversion_constants(bit_depth, black_level, exposure, hdr_);
   if (texels.empty() || raw.empty()) return;
+  check_frame(view, raw.width(), raw.height());
   const int n = texels.width();
   int a = 0;
   raw_.setArg(a++, texels.buffer());

@@ -18,9 +18,10 @@ class EnvmapUpdate {
   const UpdateParams& params() const { return params_; }
   const HdrConversionParams& hdr_params() const { return hdr_; }
 
-  // image: a converted frame (rgb radiance, a quality, 0 = unusable). texels and pending:
-  // n x 6n; pending holds the best-score rule's samples of the current cycle and must start
-  // zeroed (the Kalman rule ignores it). publish: this frame ends a bracket cycle (best-score
+  // image: a converted frame (rgb radiance, a quality, 0 = unusable), of the size of the
+  // camera view.lut was built from (std::invalid_argument naming both otherwise). texels and
+  // pending: n x 6n; pending holds the best-score rule's samples of the current cycle and must
+  // start zeroed (the Kalman rule ignores it). publish: this frame ends a bracket cycle (best-score
   // writes the cycle's best samples into texels and clears pending). view.room: parallax
   // with a room box (envmap_types.hpp). Enqueues only.
   void update(const DeviceImage<float, 4>& image, const FisheyeView& view, bool publish,
@@ -37,11 +38,15 @@ class EnvmapUpdate {
   // Sets the arguments from `first` on: texel geometry, camera, parallax and rule.
   void set_view_args(::cl::Kernel& kernel, int first, int n, const FisheyeView& view, bool publish);
   static void check(const DeviceImage<float, 4>& texels, const DeviceImage<float, 4>& pending);
+  static void check_frame(const FisheyeView& view, int width, int height);
+  const ::cl::Buffer& device_lut(const FisheyeView& view);
 
   ComputeContext& ctx_;
   UpdateParams params_;
   HdrConversionParams hdr_;
   ::cl::Kernel converted_, raw_;
+  std::shared_ptr<const FisheyeLut> lut_;  // the table lut_device_ holds
+  DeviceImage<float, 2> lut_device_;
 };
 
 }  // namespace probeless::envmap

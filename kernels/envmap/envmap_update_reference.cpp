@@ -36,6 +36,40 @@ Eigen::Vector4f pixel(const ImageRGBAF& image, int x, int y) {
 
 }  // namespace
 
+std::optional<Eigen::Vector2f> lut_pixel_reference(const FisheyeLut& lut,
+                                                   const Eigen::Vector3f& p) {
+  const float r = std::sqrt(p.x() * p.x() + p.y() * p.y());
+  const float theta = polar_angle(r, p.z());
+  if (!(theta <= lut.max_theta)) return std::nullopt;
+  float gx = lut.centre, gy = lut.centre;
+  if (r == 0.0F) {
+    if (!(p.z() > 0.0F)) return std::nullopt;
+  } else {
+    const float s = lut.scale * theta / r;
+    gx = lut.centre + s * p.x();
+    gy = lut.centre + s * p.y();
+  }
+  const float gx0 = std::floor(gx), gy0 = std::floor(gy);
+  if (!(gx0 >= 0.0F && gy0 >= 0.0F && gx0 + 1.0F < static_cast<float>(lut.size) &&
+        gy0 + 1.0F < static_cast<float>(lut.size)))
+    return std::nullopt;
+  const int i = static_cast<int>(gx0), j = static_cast<int>(gy0);
+  const auto cell = [&](int di, int dj) {
+    return Eigen::Vector2f(lut.pixel.at(i + di, j + dj, 0), lut.pixel.at(i + di, j + dj, 1));
+  };
+  const Eigen::Vector2f a = cell(0, 0), b = cell(1, 0), c = cell(0, 1), d = cell(1, 1);
+  constexpr float kValidAbove = FisheyeLut::kInvalid / 10;  // envmap_update.cl's LUT_VALID_ABOVE
+  if (!(a.x() > kValidAbove && b.x() > kValidAbove && c.x() > kValidAbove && d.x() > kValidAbove))
+    return std::nullopt;
+  const float bx = gx - gx0, by = gy - gy0;
+  Eigen::Vector2f uv;
+  for (int k = 0; k < 2; ++k) {
+    const float top = a[k] + bx * (b[k] - a[k]);
+    uv[k] = top + by * ((c[k] + bx * (d[k] - c[k])) - top);
+  }
+  return uv;
+}
+
 Eigen::Vector3f texel_direction_reference(int face, int x, int y, int n) {
   const float inv_n = 1.0F / static_cast<float>(n);
   const float u = (static_cast<float>(x) + 0.5F) * inv_n,
@@ -53,21 +87,9 @@ std::optional<Eigen::Vector4f> sample_fisheye_reference(const ImageRGBAF& image,
     const float a = r(i, 0) * w.x(), b = r(i, 1) * w.y(), c = r(i, 2) * w.z();
     p[i] = (a + b) + c;
   }
-  const KannalaBrandtParams& c = view.camera;
-  const float rad = std::sqrt(p.x() * p.x() + p.y() * p.y());
-  const float theta = polar_angle(rad, p.z());
-  if (!(theta <= static_cast<float>(c.max_theta))) return std::nullopt;
-  float u = static_cast<float>(c.cx), v = static_cast<float>(c.cy);
-  if (rad == 0.0F) {
-    if (!(p.z() > 0.0F)) return std::nullopt;
-  } else {
-    const float t2 = theta * theta;
-    const auto k = [&](int i) { return static_cast<float>(c.k[i]); };
-    const float theta_d = theta * (1.0F + t2 * (k(0) + t2 * (k(1) + t2 * (k(2) + t2 * k(3)))));
-    const float s = theta_d / rad;
-    u = static_cast<float>(c.fx) * s * p.x() + static_cast<float>(c.cx);
-    v = static_cast<float>(c.fy) * s * p.y() + static_cast<float>(c.cy);
-  }
+  const auto uv = lut_pixel_reference(*view.lut, p);
+  if (!uv) return std::nullopt;
+  const float u = uv->x(), v = uv->y();
   const float fx0 = std::floor(u), fy0 = std::floor(v);
   const int x0 = static_cast<int>(fx0), y0 = static_cast<int>(fy0);
   if (!(fx0 >= 0.0F && fy0 >= 0.0F && x0 + 1 < image.width() && y0 + 1 < image.height()))

@@ -16,6 +16,11 @@ std::optional<Eigen::Vector4f> sample_fisheye_reference(const ImageRGBAF& image,
                                                         const FisheyeView& view,
                                                         const Eigen::Vector3f& world_direction);
 
+// The fisheye pixel the kernel samples for a direction in the camera frame: the table
+// (fisheye_lut.hpp) at the direction's ideal equidistant projection, bilinearly; nullopt where
+// the kernel would not sample (outside the table, a cell the model cannot see, straight back).
+std::optional<Eigen::Vector2f> lut_pixel_reference(const FisheyeLut& lut, const Eigen::Vector3f& p);
+
 // The texel's world direction exactly as the kernel computes it (not normalised).
 Eigen::Vector3f texel_direction_reference(int face, int x, int y, int n);
 

@@ -20,9 +20,13 @@ double process_cpu_ms() {
   return static_cast<double>(t.tv_sec) * 1e3 + static_cast<double>(t.tv_nsec) * 1e-6;
 }
 
-HdrConversionParams with_circle(HdrConversionParams p, const KannalaBrandtParams& cam) {
-  if (p.circle_radius == 0) {
-    // The image circle: where the model's max_theta lands.
+// The image circle beyond which pixels are vignetted border: for Kannala-Brandt where its
+// max_theta lands. Other models say no circle (an OCamCalib fit covers the whole frame to its
+// corners); the conversion's black margin still drops the unlit border.
+HdrConversionParams with_circle(HdrConversionParams p, const CameraModel& camera) {
+  const auto* kb = dynamic_cast<const KannalaBrandtCamera*>(&camera);
+  if (p.circle_radius == 0 && kb) {
+    const KannalaBrandtParams& cam = kb->params();
     const double theta_d = kannala_brandt_distorted_angle(cam.k, cam.max_theta);
     p.circle_cx = static_cast<float>(cam.cx);
     p.circle_cy = static_cast<float>(cam.cy);
@@ -33,10 +37,10 @@ HdrConversionParams with_circle(HdrConversionParams p, const KannalaBrandtParams
 
 }  // namespace
 
-LightEstimator::LightEstimator(ComputeContext& ctx, const KannalaBrandtParams& fisheye,
+LightEstimator::LightEstimator(ComputeContext& ctx, const CameraModel& fisheye,
                                const Pose& T_rig_fisheye, const LightEstimatorConfig& config)
     : ctx_(ctx),
-      fisheye_(fisheye),
+      fisheye_(envmap::build_fisheye_lut(fisheye)),
       T_rig_fisheye_(T_rig_fisheye),
       config_(config),
       keyframes_(ctx, config.keyframes),
@@ -77,7 +81,7 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
   const Pose T_world_fisheye = T_world_rig * T_rig_fisheye_;
   envmap::Keyframe& keyframe = keyframes_.for_capture(T_world_fisheye.translation);
   envmap::FisheyeView view;
-  view.camera = fisheye_;
+  view.lut = fisheye_;
   view.R_camera_world = T_world_fisheye.rotation.toRotationMatrix().transpose();
   view.room = config_.room;
   view.position = T_world_fisheye.translation;

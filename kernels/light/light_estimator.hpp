@@ -56,7 +56,8 @@ struct LightTimings {
 
 class LightEstimator {
  public:
-  LightEstimator(ComputeContext& ctx, const KannalaBrandtParams& fisheye, const Pose& T_rig_fisheye,
+  // fisheye: any core/camera model (its lookup table is built here, once: fisheye_lut.hpp).
+  LightEstimator(ComputeContext& ctx, const CameraModel& fisheye, const Pose& T_rig_fisheye,
                  const LightEstimatorConfig& config = {});
 
   // One fisheye frame and T_world_rig at its timestamp. Returns the keyframe it updated.
@@ -78,7 +79,7 @@ class LightEstimator {
 
  private:
   ComputeContext& ctx_;
-  KannalaBrandtParams fisheye_;
+  std::shared_ptr<const envmap::FisheyeLut> fisheye_;
   Pose T_rig_fisheye_;
   LightEstimatorConfig config_;
   envmap::KeyframeSet keyframes_;

@@ -31,8 +31,6 @@ struct Options {
 void run(const Options& o) {
   const sim::SimOptions sim_options = sim::parse_sim_options("realtime=0," + o.sim);
   Rig rig = sim::make_sim_rig(sim_options);
-  const auto* fisheye = dynamic_cast<const KannalaBrandtCamera*>(rig.calibration.fisheye.get());
-  if (!fisheye) throw CommandError("bench light: the sim's fisheye is not Kannala-Brandt");
   ComputeContext ctx;
   light::LightEstimatorConfig config;
   config.keyframes.face_size = o.face_size;
@@ -40,7 +38,8 @@ void run(const Options& o) {
     config.room = rig.scene.room;
     config.sh_position = sim::light_probe_position();
   }
-  light::LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, config);
+  light::LightEstimator estimator(ctx, *rig.calibration.fisheye, rig.calibration.T_rig_fisheye,
+                                  config);
   BracketSequencer sequencer;
   FisheyeFrame frame;
   const int warmup = 8;

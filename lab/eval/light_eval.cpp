@@ -208,13 +208,11 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
       "realtime=0,trajectory=orbit" + (o.sim_spec.empty() ? std::string() : "," + o.sim_spec);
   const sim::SimOptions sim_options = sim::parse_sim_options(spec);
   Rig rig = sim::make_sim_rig(sim_options);
-  const auto* fisheye = dynamic_cast<const KannalaBrandtCamera*>(rig.calibration.fisheye.get());
-  if (!fisheye) throw std::runtime_error("eval light: the sim's fisheye is not Kannala-Brandt");
 
   ComputeContext ctx;
   LightEstimatorConfig config = o.estimator;
   if (o.room_box) config.room = rig.scene.room;
-  LightEstimator estimator(ctx, fisheye->params(), rig.calibration.T_rig_fisheye, config);
+  LightEstimator estimator(ctx, *rig.calibration.fisheye, rig.calibration.T_rig_fisheye, config);
   BracketSequencer sequencer;
   Trajectory trajectory;  // from the RGB-D stream's truth, as tracking would deliver it
   const auto timeout = std::chrono::milliseconds(5000);

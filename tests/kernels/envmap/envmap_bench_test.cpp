@@ -75,9 +75,7 @@ TEST(EnvmapBench, DISABLED_UpdatePieces1024) {
   HdrConversionParams hdr;
   hdr.circle_cx = hdr.circle_cy = 0.5F * (size - 1);
   hdr.circle_radius = 0.5F * size;
-  FisheyeView view;
-  view.camera = KannalaBrandtCamera::equidistant(size, 190).params();
-  view.R_camera_world = upward_R_camera_world();
+  FisheyeView view = view_of(KannalaBrandtCamera::equidistant(size, 190), upward_R_camera_world());
   FisheyeView yawed = view;  // the rig turned: texel rows cross the image's rows
   yawed.R_camera_world =
       view.R_camera_world * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "core/camera/kannala_brandt.hpp"
 #include "kernels/envmap/envmap_types.hpp"
 
 namespace probeless::envmap::testing {
@@ -30,16 +31,34 @@ inline void add_random_room(std::mt19937& rng, FisheyeView& view) {
   view.position = view.keyframe_position + 0.35 * Eigen::Vector3d(u(rng), u(rng), 0.3 * u(rng));
 }
 
-inline FisheyeView random_view(std::mt19937& rng, int size) {
+// A Kannala-Brandt fisheye of size x height px (height 0: square) with a random field of view,
+// centre offset, aspect and distortion.
+inline KannalaBrandtCamera random_camera(std::mt19937& rng, int size, int height = 0) {
   std::uniform_real_distribution<double> u(-1, 1), fov(160, 200);
+  KannalaBrandtParams p = KannalaBrandtCamera::equidistant(size, fov(rng)).params();
+  p.cx += 3 * u(rng);
+  p.fy *= 1 + 0.02 * u(rng);
+  p.k = {0.02 * u(rng), 0.01 * u(rng), 0.005 * u(rng), 0.001 * u(rng)};
+  if (height > 0) p.height = height;
+  return KannalaBrandtCamera(p);
+}
+
+inline FisheyeView view_of(const CameraModel& camera, const Eigen::Matrix3d& R_camera_world) {
   FisheyeView v;
-  v.camera = KannalaBrandtCamera::equidistant(size, fov(rng)).params();
-  v.camera.cx += 3 * u(rng);
-  v.camera.fy *= 1 + 0.02 * u(rng);
-  v.camera.k = {0.02 * u(rng), 0.01 * u(rng), 0.005 * u(rng), 0.001 * u(rng)};
-  const Eigen::Quaterniond q(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized());
-  v.R_camera_world = q.toRotationMatrix();
+  v.lut = build_fisheye_lut(camera);
+  v.R_camera_world = R_camera_world;
   return v;
+}
+
+inline Eigen::Matrix3d random_rotation(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  return Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized())
+      .toRotationMatrix();
+}
+
+inline FisheyeView random_view(std::mt19937& rng, int size, int height = 0) {
+  const KannalaBrandtCamera camera = random_camera(rng, size, height);
+  return view_of(camera, random_rotation(rng));
 }
 
 // A raw 12-bit frame (black level 256) whose signal rises smoothly over a decade across the

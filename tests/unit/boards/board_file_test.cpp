@@ -7,11 +7,18 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 
 #include "app/pipeline/service_config.hpp"
+#include "core/calibration.hpp"
 #include "core/error.hpp"
+#include "drivers/openni2/openni2_rgbd_source.hpp"
+#include "drivers/rig_factory.hpp"
+#include "drivers/sim/sim_rig.hpp"
+#include "drivers/sim/sim_sources.hpp"
+#include "drivers/v4l2/v4l2_fisheye_source.hpp"
 #include "drivers/v4l2/v4l2_options.hpp"
 #include "support/test_data.hpp"
 
@@ -39,6 +46,14 @@ std::string parse_error(F&& load) {
   return {};
 }
 
+// A fisheye spec without its "&calibration=FILE" (the rig's, not the camera's).
+std::string without_calibration(std::string spec) {
+  const auto at = spec.find("&calibration=");
+  if (at == std::string::npos) return spec;
+  const auto end = spec.find('&', at + 1);
+  return spec.erase(at, end == std::string::npos ? std::string::npos : end - at);
+}
+
 class BoardDir : public ::testing::Test {
  protected:
   void SetUp() override { ::setenv("PROBELESS_BOARD_DIR", kBoards.c_str(), 1); }
@@ -58,10 +73,11 @@ TEST(BoardFiles, EveryShippedBoardLoadsWithTheServiceLoader) {
     EXPECT_EQ(fs::canonical(c.board), fs::canonical(entry.path() / "board.toml"));
     EXPECT_FALSE(c.cl_platform.empty()) << "a board says which OpenCL platform it uses";
     EXPECT_NE(c.source, "sim") << "a board names its sensors";
-    // The fisheye part of the rig spec must be one the V4L2 driver accepts.
-    const auto v4l2 = c.source.find("v4l2:");
+    // The fisheye part of the rig spec must be one the V4L2 driver accepts (the rig factory
+    // takes calibration= out before the driver sees the rest).
+    const auto v4l2 = c.source.find("+v4l2:");
     ASSERT_NE(v4l2, std::string::npos);
-    EXPECT_NO_THROW(v4l2::parse_v4l2_options(c.source.substr(v4l2 + 5)));
+    EXPECT_NO_THROW(v4l2::parse_v4l2_options(without_calibration(c.source.substr(v4l2 + 6))));
   }
   EXPECT_EQ(names, (std::set<std::string>{"rk3588", "rpi5", "x86-pocl"}));
 }
@@ -79,6 +95,71 @@ TEST_F(BoardDir, AConfigNamesABoardAndOverridesItKeyByKey) {
   EXPECT_EQ(c.trigger_line, 17);
   EXPECT_EQ(c.cl_platform, "Portable Computing Language");
   EXPECT_EQ(fs::canonical(c.board), fs::canonical(kBoards / "rpi5/board.toml"));
+}
+
+// Issue #18: "add board = NAME" to the shipped /etc/probeless/probeless.toml (or run with
+// --board NAME) and the board's sensors open, never the sim: the shipped file sets none of
+// the keys a board sets, so nothing it says overrides the board.
+TEST_F(BoardDir, TheShippedConfigurationLetsTheBoardDecide) {
+  const fs::path shipped = fs::path(PROBELESS_TEST_SOURCE_DIR) / "../../../systemd/probeless.toml";
+  std::ifstream in(shipped);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(text.empty());
+  const fs::path dir = testing::scratch_dir();
+  for (const std::string name : {"rpi5", "rk3588", "x86-pocl"}) {
+    SCOPED_TRACE(name);
+    // The person's edit: one line on top of the shipped file.
+    write(dir / name / "probeless.toml", "board = \"" + name + "\"\n" + text);
+    const ServiceConfig named = load_service_config((dir / name / "probeless.toml").string());
+    const ServiceConfig flag = load_service_config(shipped.string(), name);
+    const ServiceConfig board = load_service_config("", name);
+    for (const ServiceConfig* c : {&named, &flag}) {
+      EXPECT_EQ(c->about_name, name);
+      EXPECT_EQ(c->source, board.source);                           // the board's sensors ...
+      EXPECT_TRUE(c->source.starts_with("openni2:")) << c->source;  // ... the real RGB-D,
+      EXPECT_NE(c->source.find("+v4l2:"), std::string::npos) << c->source;  // the fisheye,
+      EXPECT_NE(c->source.find("calibration=/etc/probeless/calibration.toml"), std::string::npos)
+          << c->source;  // the unit's calibration, not the sim's
+      EXPECT_EQ(c->source.find("sim"), std::string::npos) << c->source;
+      EXPECT_EQ(c->http.address, board.http.address);
+      EXPECT_EQ(c->bracket.mains_hz, board.bracket.mains_hz);
+      EXPECT_EQ(c->light_room, "auto");  // a real rig has no room box: parallax off
+      EXPECT_EQ(c->cl_platform, board.cl_platform);
+    }
+  }
+}
+
+// What the rig factory makes of a board's spec with the shipped config: OpenNI2's RGB-D source
+// and the V4L2 fisheye (in "no device" here, where neither is plugged in), the unit's
+// calibration, and no synthetic room. (tests/vm/check_vivid.sh streams the same kind of spec
+// from OpenNI2's Dummy device and vivid.)
+TEST_F(BoardDir, ABoardsSpecOpensItsOwnDevicesNeverTheSim) {
+  const fs::path dir = testing::scratch_dir();
+  RigCalibration unit = sim::make_sim_rig(sim::SimOptions{}).calibration;
+  unit.T_rig_fisheye.translation.x() = 0.123;  // not the sim's: the file's must arrive
+  write(dir / "calibration.toml", to_toml(unit));
+  for (const std::string name : {"rpi5", "rk3588", "x86-pocl"}) {
+    SCOPED_TRACE(name);
+    std::string spec = load_service_config("", name).source;
+    const std::string shipped_calibration = "calibration=/etc/probeless/calibration.toml";
+    ASSERT_NE(spec.find(shipped_calibration), std::string::npos);
+    spec.replace(spec.find(shipped_calibration), shipped_calibration.size(),
+                 "calibration=" + (dir / "calibration.toml").string());
+    Rig rig = open_rig(spec);
+    EXPECT_NE(dynamic_cast<openni2::Openni2RgbdSource*>(rig.rgbd.get()), nullptr);
+    EXPECT_NE(dynamic_cast<v4l2::V4l2FisheyeSource*>(rig.fisheye.get()), nullptr);
+    EXPECT_EQ(dynamic_cast<sim::SimRgbdSource*>(rig.rgbd.get()), nullptr);
+    EXPECT_FALSE(rig.scene.room.has_value());
+    EXPECT_DOUBLE_EQ(rig.calibration.T_rig_fisheye.translation.x(), 0.123);
+  }
+  // Without the unit's calibration file: an error naming it, at start-up.
+  try {
+    open_rig(load_service_config("", "rpi5").source);
+    ADD_FAILURE() << "opened without a calibration file";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("/etc/probeless/calibration.toml"), std::string::npos)
+        << e.what();
+  }
 }
 
 TEST_F(BoardDir, TheCommandLineBoardWinsOverTheFilesAndWorksAlone) {

@@ -157,12 +157,16 @@ TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[ground]\nheight = 1\n"), ParseError);
 }
 
-// The configuration the package installs runs the sim with its room box for parallax.
+// The configuration the package installs runs the sim (with its room box for parallax: room
+// "auto" takes the sim's) on loopback; it sets no key, so a board it names decides
+// (tests/unit/boards/board_file_test.cpp "TheShippedConfigurationLetsTheBoardDecide").
 TEST(ServiceConfig, TheShippedConfigurationParses) {
   const ServiceConfig c =
       load_service_config(PROBELESS_TEST_SOURCE_DIR "/../../../systemd/probeless.toml");
   EXPECT_EQ(c.source, "sim");
-  EXPECT_EQ(c.light_room, "sim");
+  EXPECT_EQ(c.light_room, "auto");
+  EXPECT_EQ(c.http.address, "127.0.0.1");
+  EXPECT_TRUE(c.board.empty());
 }
 
 // [light] room = "sim" takes the rig's room box, and only from a rig that knows one (the sim);
