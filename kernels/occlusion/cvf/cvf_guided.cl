@@ -22,7 +22,11 @@
 // SROW = PAD + round_up(w, 16) + PAD floats with zero padding on both sides.
 //
 // Build options: -DRADIUS=r, -DINPUT_MODE=i, -DOUTPUT_MODE=o, -DTRACE=0/1, and for the CVF
-// inputs -DBINS=b -DSUBSAMPLE=s.
+// inputs -DBINS=b -DSUBSAMPLE=s -DLOCAL=0/1 (with LOCAL=1 -DTILE=t -DPRIOR=r -DSOFT=0/1).
+//   LOCAL 0: the thesis's CVF, one pair of colour models per frame (cvf_reference.cpp).
+//   LOCAL 1: the shipped CVF with local colour models (cvf_local_reference.cpp): a process
+//     pixel's cost is the posterior from the 4 nearest tiles' likelihoods and the window prior
+//     counted by cvf.cl; the threshold keeps the filtered cost with weight s (the softness).
 //   INPUT_MODE 0: packed (r, g, b, p) float4 per pixel           (the plain filter, tests)
 //   INPUT_MODE 1: CVF's cost, block-averaged over SUBSAMPLE^2 with the guide (the wide filter)
 //   INPUT_MODE 2: CVF's threshold of the wide filter's upsampled output (the feather filter)
@@ -43,6 +47,9 @@
 #define CAT_BEHIND 1
 #define CAT_INFRONT 2
 #define CAT_PROCESS 3
+#ifndef LOCAL
+#define LOCAL 0
+#endif
 
 inline int window_count(int x, int n) {
   return min(n - 1, x + RADIUS) - max(0, x - RADIUS) + 1;
@@ -75,6 +82,19 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
 
 #elif INPUT_MODE == 1
 #define NBINS (BINS * BINS * BINS)
+#if LOCAL
+// lik: per tile the shrunk likelihoods P(bin | infront) [0, NBINS) and P(bin | behind)
+// [NBINS, 2 NBINS) (cvf_local_histogram.cl: cvf_local_likelihoods); stats[0] = 1 when the
+// frame's pair had min_samples per class; prior: the window counts (infront, behind) (cvf.cl).
+#define INPUT_ARGS                                                                             \
+  __global const uchar *rgb, __global const uchar *categories, __global const ushort *real_mm, \
+      __global const float *virtual_mm, __global const float *lik, __global const int *stats,  \
+      __global const uchar *prior, int tiles_x, int tiles_y, int full_w, int full_h
+#define INPUT_PASS \
+  rgb, categories, real_mm, virtual_mm, lik, stats, prior, tiles_x, tiles_y, full_w, full_h
+#define INPUT_SETUP
+#define MODELS_VALID (stats[0] != 0)
+#else
 // hist: infront counts [0, NBINS), behind [NBINS, 2 NBINS), then the two totals. table: the
 // process cost of every bin, table[NBINS] = 1 when the colour models are valid.
 #define INPUT_ARGS                                                                             \
@@ -93,13 +113,55 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
     }                                                                        \
     table[NBINS] = valid ? 1.0f : 0.0f;                                      \
   }
+#define MODELS_VALID (table[NBINS] != 0.0f)
+#endif
 
 inline int colour_bin(uint r, uint g, uint b) {
   return ((r * BINS / 256) * BINS + g * BINS / 256) * BINS + b * BINS / 256;
 }
 
+#if LOCAL
+// Tile centres at (t + 0.5) TILE; beyond the outermost centres the nearest one holds
+// (tile_blend() in cvf_local_reference.cpp).
+inline void blend_axis(int p, int tiles, int* t0, int* t1, float* f) {
+  const float u = clamp(((float)p + 0.5f) / (float)TILE - 0.5f, 0.0f, (float)(tiles - 1));
+  *t0 = min((int)u, tiles - 1);
+  *t1 = min(*t0 + 1, tiles - 1);
+  *f = u - (float)*t0;
+}
+
+// The local posterior of a process pixel (local_cost() in cvf_local_reference.cpp): the 4
+// nearest tiles' likelihoods blended bilinearly, times the Laplace-smoothed window prior.
+inline float process_cost(int x, int y, int bin, INPUT_ARGS) {
+  int x0, x1, y0, y1;
+  float fx, fy;
+  blend_axis(x, tiles_x, &x0, &x1, &fx);
+  blend_axis(y, tiles_y, &y0, &y1, &fy);
+  const int tile[4] = {y0 * tiles_x + x0, y0 * tiles_x + x1, y1 * tiles_x + x0, y1 * tiles_x + x1};
+  const float wt[4] = {(1 - fx) * (1 - fy), fx * (1 - fy), (1 - fx) * fy, fx * fy};
+  float p_in = 0.0f, p_be = 0.0f;
+  for (int k = 0; k < 4; ++k) {
+    __global const float* l = lik + (size_t)tile[k] * 2 * NBINS;
+    p_in += wt[k] * l[bin];
+    p_be += wt[k] * l[NBINS + bin];
+  }
+#if PRIOR > 0
+  const size_t i = (size_t)y * full_w + x;
+  const float ni = (float)prior[2 * i] + 1.0f, nb = (float)prior[2 * i + 1] + 1.0f;
+  p_in *= ni / (ni + nb);
+  p_be *= nb / (ni + nb);
+#endif
+  return p_in + p_be > 0.0f ? p_in / (p_in + p_be) : 0.5f;
+}
+#else
+inline float process_cost(int x, int y, int bin, INPUT_ARGS) {
+  return table[bin];
+}
+#endif
+
 // Cost of one pixel (thesis 3.3.3; cvf_cost() in cvf_reference.cpp), with its colour.
-inline float4 cost_pixel(int i, INPUT_ARGS) {
+inline float4 cost_pixel(int x, int y, INPUT_ARGS) {
+  const int i = y * full_w + x;
   const uint r = rgb[3 * i], g = rgb[3 * i + 1], b = rgb[3 * i + 2];
   const int c = categories[i] & 3;
   float cost;
@@ -109,11 +171,11 @@ inline float4 cost_pixel(int i, INPUT_ARGS) {
     cost = 0.0f;
   } else if (c == CAT_IGNORE) {
     cost = 0.5f;
-  } else if (table[NBINS] == 0.0f) {
+  } else if (!MODELS_VALID) {
     const ushort d = real_mm[i];
     cost = d == 0 ? 0.5f : ((float)d < virtual_mm[i] ? 1.0f : 0.0f);
   } else {
-    cost = table[colour_bin(r, g, b)];
+    cost = process_cost(x, y, colour_bin(r, g, b), INPUT_PASS);
   }
   return (float4)((float)r * (1.0f / 255.0f), (float)g * (1.0f / 255.0f),
                   (float)b * (1.0f / 255.0f), cost);
@@ -127,22 +189,23 @@ inline float4 input_pixel(int xl, int yl, int w, int h, INPUT_ARGS) {
     for (int dx = 0; dx < SUBSAMPLE; ++dx) {
       const int x = xl * SUBSAMPLE + dx, y = yl * SUBSAMPLE + dy;
       if (x < full_w && y < full_h) {
-        sum += cost_pixel(y * full_w + x, INPUT_PASS);
+        sum += cost_pixel(x, y, INPUT_PASS);
         n += 1.0f;
       }
     }
   return sum / n;
 }
 
-// Costs of 16 full-resolution pixels from index i.
-__attribute__((always_inline)) inline vf cost_vec(int i, vf r, vf g, vf b, INPUT_ARGS) {
+// Costs of 16 full-resolution pixels from (x0, y).
+__attribute__((always_inline)) inline vf cost_vec(int x0, int y, vf r, vf g, vf b, INPUT_ARGS) {
+  const int i = y * full_w + x0;
   const vi c = convert_int16(LOADU8(categories + i) & (uchar16)(3));
   vf cost = select((vf)(0.5f), (vf)(1.0f), c == CAT_INFRONT);
   cost = select(cost, (vf)(0.0f), c == CAT_BEHIND);
   const vi process = c == CAT_PROCESS;
   if (any(process)) {
     vf pc;
-    if (table[NBINS] == 0.0f) {
+    if (!MODELS_VALID) {
       const vf d = convert_float16(LOADU16(real_mm + i));
       const vf v = LOADF(virtual_mm + i);
       pc = select(select((vf)(0.0f), (vf)(1.0f), d < v), (vf)(0.5f), d == 0.0f);
@@ -150,10 +213,12 @@ __attribute__((always_inline)) inline vf cost_vec(int i, vf r, vf g, vf b, INPUT
       const vi bin =
           ((convert_int16(r) * BINS / 256) * BINS + convert_int16(g) * BINS / 256) * BINS +
           convert_int16(b) * BINS / 256;
-      int bins[VW];
+      int bins[VW], proc[VW];
       float t[VW];
       vstore16(bin, 0, bins);
-      for (int k = 0; k < VW; ++k) t[k] = table[bins[k]];
+      vstore16(process, 0, proc);
+      for (int k = 0; k < VW; ++k)
+        t[k] = proc[k] ? process_cost(x0 + k, y, bins[k], INPUT_PASS) : 0.0f;
       pc = vload16(0, t);
     }
     cost = select(cost, pc, process);
@@ -173,7 +238,7 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
   const int i = y * full_w + x0;
   vf r, g, b;
   load_rgb16(rgb + 3 * i, &r, &g, &b);
-  v[3] = cost_vec(i, r, g, b, INPUT_PASS);
+  v[3] = cost_vec(x0, y, r, g, b, INPUT_PASS);
   v[0] = r * (1.0f / 255.0f);
   v[1] = g * (1.0f / 255.0f);
   v[2] = b * (1.0f / 255.0f);
@@ -186,7 +251,7 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
       const int i = (2 * y + dy) * full_w + 2 * x0 + VW * part;
       vf r, g, b;
       load_rgb16(rgb + 3 * i, &r, &g, &b);
-      q[part][3] = cost_vec(i, r, g, b, INPUT_PASS);
+      q[part][3] = cost_vec(2 * x0 + VW * part, 2 * y + dy, r, g, b, INPUT_PASS);
       q[part][0] = r * (1.0f / 255.0f);
       q[part][1] = g * (1.0f / 255.0f);
       q[part][2] = b * (1.0f / 255.0f);
@@ -203,11 +268,37 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
 #elif INPUT_MODE == 2
 // mean_ab: the wide filter's mean coefficients at 1/SUBSAMPLE resolution, 4 planes of wl x hl
 // with rows of wl + 2 MEAN_PAD (column x at MEAN_PAD + x).
+#if LOCAL
+// prior: the window counts (infront, behind) (cvf.cl); overlap[0]: the Bhattacharyya
+// coefficient of the frame's two colour models; stats[0] = 1 when they are valid.
+#define INPUT_ARGS                                                                            \
+  __global const uchar *rgb, __global const uchar *categories, __global const float *mean_ab, \
+      int wl, int hl, __global const uchar *prior, __global const float *overlap,             \
+      __global const int *stats
+#define INPUT_PASS rgb, categories, mean_ab, wl, hl, prior, overlap, stats
+#else
 #define INPUT_ARGS                                                                            \
   __global const uchar *rgb, __global const uchar *categories, __global const float *mean_ab, \
       int wl, int hl
 #define INPUT_PASS rgb, categories, mean_ab, wl, hl
+#endif
 #define INPUT_SETUP
+
+// The threshold of the wide filter's output q on process pixels: CVF's q > 0.5, and with
+// LOCAL its blend with the soft q, weight s = overlap x 4 pi_in pi_behind (step 3 of
+// docs/occlusion.md "CVF with local colour models"; cvf_local_reference.cpp).
+#if LOCAL && SOFT
+inline float softness(int i, INPUT_ARGS) {
+  if (!stats[0]) return 0.0f;
+#if PRIOR > 0
+  const float ni = (float)prior[2 * i] + 1.0f, nb = (float)prior[2 * i + 1] + 1.0f;
+  const float ambiguity = 4.0f * ni * nb / ((ni + nb) * (ni + nb));
+#else
+  const float ambiguity = 1.0f;
+#endif
+  return clamp(overlap[0] * ambiguity, 0.0f, 1.0f);
+}
+#endif
 
 // The wide filter's output at (x, y) (mean a, b upsampled bilinearly when SUBSAMPLE > 1),
 // thresholded: infront 1, behind 0, else q > 0.5 (thesis 3.3.4), with the guide.
@@ -234,7 +325,13 @@ inline float4 input_pixel(int x, int y, int w, int h, INPUT_ARGS) {
 #endif
   const float q = m[0] * I.x + m[1] * I.y + m[2] * I.z + m[3];
   const int c = categories[i] & 3;
-  const float mask = c == CAT_INFRONT ? 1.0f : c == CAT_BEHIND ? 0.0f : (q > 0.5f ? 1.0f : 0.0f);
+  float mask = c == CAT_INFRONT ? 1.0f : c == CAT_BEHIND ? 0.0f : (q > 0.5f ? 1.0f : 0.0f);
+#if LOCAL && SOFT
+  if (c == CAT_PROCESS) {
+    const float s = softness(i, INPUT_PASS);
+    mask = (1.0f - s) * mask + s * clamp(q, 0.0f, 1.0f);
+  }
+#endif
   return (float4)(I, mask);
 }
 
@@ -279,6 +376,25 @@ __attribute__((always_inline)) inline void input_vec(int x0, int y, int w, int h
   const vf q = m[0] * r + m[1] * g + m[2] * b + m[3];
   const vi c = convert_int16(LOADU8(categories + i) & (uchar16)(3));
   vf mask = select((vf)(0.0f), (vf)(1.0f), q > 0.5f);
+#if LOCAL && SOFT
+  const vi process = c == CAT_PROCESS;
+  if (any(process) && stats[0]) {
+#if PRIOR > 0
+    const uchar16 lo = LOADU8(prior + 2 * i), hi = LOADU8(prior + 2 * i + VW);
+    const vf ni = convert_float16(__builtin_shufflevector(lo, hi, 0, 2, 4, 6, 8, 10, 12, 14, 16, 18,
+                                                          20, 22, 24, 26, 28, 30)) +
+                  1.0f;
+    const vf nb = convert_float16(__builtin_shufflevector(lo, hi, 1, 3, 5, 7, 9, 11, 13, 15, 17, 19,
+                                                          21, 23, 25, 27, 29, 31)) +
+                  1.0f;
+    const vf ambiguity = 4.0f * ni * nb / ((ni + nb) * (ni + nb));
+#else
+    const vf ambiguity = (vf)(1.0f);
+#endif
+    const vf s = select((vf)(0.0f), clamp(overlap[0] * ambiguity, 0.0f, 1.0f), process);
+    mask = (1.0f - s) * mask + s * clamp(q, 0.0f, 1.0f);
+  }
+#endif
   mask = select(mask, (vf)(1.0f), c == CAT_INFRONT);
   mask = select(mask, (vf)(0.0f), c == CAT_BEHIND);
   out[0] = r;
@@ -309,7 +425,7 @@ __attribute__((always_inline)) inline void input_row(int x0, int y, int w, int h
 
 // ---- Outputs ------------------------------------------------------------------------------
 
-#if INPUT_MODE == 1
+#if INPUT_MODE == 1 && !LOCAL
 #define KERNEL_INPUT_ARGS                                                                       \
   __global const uchar *rgb, __global const uchar *categories, __global const ushort *real_mm,  \
       __global const float *virtual_mm, __global const uint *hist, int min_samples, int full_w, \
