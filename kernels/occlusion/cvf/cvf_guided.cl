@@ -470,13 +470,26 @@ inline vf inverse_counts(int x0, int y, int w, int h) {
   return 1.0f / window_counts(x0, y, w, h);
 }
 
-__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(int w, int h, int strip_rows,
-                                                                      float eps,
-                                                                      __global float* scratch,
-                                                                      KERNEL_INPUT_ARGS, OUTPUT_ARGS
+// Rows far from the virtual object: with CVF's inputs the filter's output there is known
+// without filtering (docs/occlusion.md "Speed"). row_object[y] != 0 where full-resolution row
+// y (of n_rows) has an on-object pixel; output row yo covers full rows [yo scale, yo scale +
+// scale) and is computed when an object row lies within `reach` full rows of them (reach < 0:
+// every row). The host picks reach so that the skipped rows' output is the constant below.
+inline bool row_active(int yo, __global const int* row_object, int n_rows, int scale, int reach) {
+  if (reach < 0) return true;
+  const int a = max(0, yo * scale - reach), b = min(n_rows - 1, yo * scale + scale - 1 + reach);
+  for (int y = a; y <= b; ++y)
+    if (row_object[y]) return true;
+  return false;
+}
+
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
+    int w, int h, int strip_rows, float eps, __global float* scratch,
+    __global const int* row_object, int n_rows, int row_scale, int reach, KERNEL_INPUT_ARGS,
+    OUTPUT_ARGS
 #if TRACE
-                                                                      ,
-                                                                      __global float* trace_input
+    ,
+    __global float* trace_input
 #endif
 ) {
   INPUT_SETUP
@@ -486,138 +499,161 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(int w, int
   __global float* col = in_ring + 4 * NRING * srow;     // [13] rows
   __global float* ab_ring = col + 13 * srow;            // [NRING][4] rows
   __global float* col_ab = ab_ring + 4 * NRING * srow;  // [4] rows
-  for (int k = -PAD; k < 13 * srow - PAD; ++k) col[k] = 0.0f;
-  for (int k = -PAD; k < 4 * srow - PAD; ++k) col_ab[k] = 0.0f;
-  const int y0 = (int)get_group_id(1) * strip_rows;
-  const int y1 = min(h, y0 + strip_rows);
   const int plane = w * h;
-
-  // Input rows from y0 - 2 RADIUS on (earlier rows never enter); coefficient rows from
-  // y0 - RADIUS (earlier ones are stored as 0); output rows y0 .. y1 - 1.
-  const int first_in = y0 - 2 * RADIUS, first_ab = y0 - RADIUS;
-  for (int t = y0 - 3 * RADIUS; t < y1 + RADIUS; ++t) {
-    // 1. Row t + RADIUS enters the moment sums, row t - RADIUS - 1 leaves.
-    const int yi = t + RADIUS;
-    const bool leave_in = t - RADIUS - 1 >= first_in;
-    __global float* ring_in = in_ring + ring_slot(yi) * 4 * srow;
-    __global const float* ring_out = in_ring + ring_slot(t - RADIUS - 1) * 4 * srow;
-    // 2. Coefficients of row t (0 outside the image and before first_ab).
-    const bool ab_valid = t >= first_ab && t >= 0 && t < h;
-    const bool leave_ab = t - 2 * RADIUS - 1 >= y0 - 3 * RADIUS;
-    __global float* ab_in = ab_ring + ring_slot(t) * 4 * srow;
-    __global const float* ab_out = ab_ring + ring_slot(t - 2 * RADIUS - 1) * 4 * srow;
-    vf carry[13];
-#pragma unroll
-    for (int c = 0; c < 13; ++c) carry[c] = (vf)(0.0f);
-    // 3. Output row t - RADIUS: window means of (a, b), applied to the guide.
-    const int yo = t - RADIUS;
-    const bool out_row = yo >= y0;
-    __global const float* guide = in_ring + ring_slot(yo) * 4 * srow;
-    vf carry_ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
-
-    // One pass along the row: step 2 runs one vector behind step 1 and step 3 one behind
-    // step 2, so each reads column sums (up to 16 columns ahead) that are already updated,
-    // while they are still in the L1 cache.
-    for (int x0 = 0; x0 < w + 2 * VW; x0 += VW) {
-      if (x0 < w) {
-        vf v[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
-        if (yi >= 0 && yi < h) input_row(x0, yi, w, h, v, INPUT_PASS);
-#if TRACE
-        if (yi >= y0 && yi < y1)
-          for (int c = 0; c < 4; ++c) store_row(trace_input + c * plane + yi * w, x0, w, v[c]);
-#endif
-        vf o[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
-        for (int c = 0; c < 4; ++c) {
-          STOREF(ring_in + c * srow + x0, v[c]);
-          if (leave_in) o[c] = LOADF(ring_out + c * srow + x0);
-        }
-        const vf m[13] = {v[0] - o[0],
-                          v[1] - o[1],
-                          v[2] - o[2],
-                          v[3] - o[3],
-                          v[0] * v[3] - o[0] * o[3],
-                          v[1] * v[3] - o[1] * o[3],
-                          v[2] * v[3] - o[2] * o[3],
-                          v[0] * v[0] - o[0] * o[0],
-                          v[0] * v[1] - o[0] * o[1],
-                          v[0] * v[2] - o[0] * o[2],
-                          v[1] * v[1] - o[1] * o[1],
-                          v[1] * v[2] - o[1] * o[2],
-                          v[2] * v[2] - o[2] * o[2]};
-#pragma unroll
-        for (int c = 0; c < 13; ++c) {
-          __global float* p = col + c * srow + x0;
-          STOREF(p, LOADF(p) + m[c]);
-        }
-      }
-
-      const int x2 = x0 - VW;
-      if (x2 < w && (ab_valid || x2 >= 0)) {
-        vf ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
-        if (ab_valid) {
-          vf s[13];
-#pragma unroll
-          for (int c = 0; c < 13; ++c) s[c] = window_sums(col + c * srow, x2, &carry[c]);
-          if (x2 >= 0) {
-            const vf n = window_counts(x2, t, w, h);
-#if INPUT_MODE != 0
-            // CVF's inputs lie in [0, 1], so a window sum of 0 or of n means p is constant
-            // over the window: then cov(I, p) = 0, a = 0 and b = p exactly, which is most of
-            // the frame (off the object and inside known regions); the solve is skipped there.
-            const vi flat = s[3] == 0.0f || s[3] == n;
-#else
-            const vi flat = (vi)(0);
-#endif
-            const vf inv_n = 1.0f / n;
-#pragma unroll
-            for (int c = 0; c < 13; ++c) s[c] *= inv_n;
-            if (!all(flat)) solve_coefficients(s, eps, ab);
-            ab[0] = select(ab[0], (vf)(0.0f), flat);
-            ab[1] = select(ab[1], (vf)(0.0f), flat);
-            ab[2] = select(ab[2], (vf)(0.0f), flat);
-            ab[3] = select(ab[3], s[3], flat);
-            const vi inside = lanes() + x2 < w;
-            for (int c = 0; c < 4; ++c) ab[c] = select((vf)(0.0f), ab[c], inside);
-          }
-        }
-        if (x2 >= 0) {
-          for (int c = 0; c < 4; ++c) {
-            STOREF(ab_in + c * srow + x2, ab[c]);
-            const vf o = leave_ab ? LOADF(ab_out + c * srow + x2) : (vf)(0.0f);
-            __global float* p = col_ab + c * srow + x2;
-            STOREF(p, LOADF(p) + ab[c] - o);
-          }
-        }
-      }
-
-      const int x3 = x0 - 2 * VW;
-      if (!out_row || x3 < -VW || x3 >= w) continue;
-      vf m[4];
-#pragma unroll
-      for (int c = 0; c < 4; ++c) m[c] = window_sums(col_ab + c * srow, x3, &carry_ab[c]);
-      if (x3 < 0) continue;
-      const vf inv_n = inverse_counts(x3, yo, w, h);
-      for (int c = 0; c < 4; ++c) m[c] *= inv_n;
+  const int strip0 = (int)get_group_id(1) * strip_rows;
+  const int strip1 = min(h, strip0 + strip_rows);
+  // Spans of consecutive active rows, each streamed as a strip of its own (warm-up included);
+  // rows between them get the constant output: CVF's cost 0.5 off the object makes a = 0,
+  // b = 0.5 (OUTPUT_MODE 0), and alpha is 0 off the object (OUTPUT_MODE 1).
+  for (int span = strip0; span < strip1;) {
+    if (!row_active(span, row_object, n_rows, row_scale, reach)) {
 #if OUTPUT_MODE == 0
       const int pitch = w + 2 * MEAN_PAD;
-      for (int c = 0; c < 4; ++c) {
-        __global float* row = mean_out + c * pitch * h + yo * pitch + MEAN_PAD;
-        store_row(row, x3, w, m[c]);
-        float tm[VW];
-        vstore16(m[c], 0, tm);
-        if (x3 == 0) STOREF(row - MEAN_PAD, (vf)(tm[0]));
-        if (x3 + VW >= w) STOREF(row + w, (vf)(tm[w - 1 - x3]));
-      }
+      for (int c = 0; c < 4; ++c)
+        for (int x = 0; x < pitch; ++x)
+          mean_out[c * pitch * h + span * pitch + x] = c == 3 ? 0.5f : 0.0f;
+#elif OUTPUT_MODE == 1
+      for (int x = 0; x < w; ++x) alpha[span * w + x] = 0.0f;
+#endif
+      ++span;
+      continue;
+    }
+    int span_end = span + 1;
+    while (span_end < strip1 && row_active(span_end, row_object, n_rows, row_scale, reach))
+      ++span_end;
+    const int y0 = span, y1 = span_end;
+    span = span_end;
+    for (int k = -PAD; k < 13 * srow - PAD; ++k) col[k] = 0.0f;
+    for (int k = -PAD; k < 4 * srow - PAD; ++k) col_ab[k] = 0.0f;
+
+    // Input rows from y0 - 2 RADIUS on (earlier rows never enter); coefficient rows from
+    // y0 - RADIUS (earlier ones are stored as 0); output rows y0 .. y1 - 1.
+    const int first_in = y0 - 2 * RADIUS, first_ab = y0 - RADIUS;
+    for (int t = y0 - 3 * RADIUS; t < y1 + RADIUS; ++t) {
+      // 1. Row t + RADIUS enters the moment sums, row t - RADIUS - 1 leaves.
+      const int yi = t + RADIUS;
+      const bool leave_in = t - RADIUS - 1 >= first_in;
+      __global float* ring_in = in_ring + ring_slot(yi) * 4 * srow;
+      __global const float* ring_out = in_ring + ring_slot(t - RADIUS - 1) * 4 * srow;
+      // 2. Coefficients of row t (0 outside the image and before first_ab).
+      const bool ab_valid = t >= first_ab && t >= 0 && t < h;
+      const bool leave_ab = t - 2 * RADIUS - 1 >= y0 - 3 * RADIUS;
+      __global float* ab_in = ab_ring + ring_slot(t) * 4 * srow;
+      __global const float* ab_out = ab_ring + ring_slot(t - 2 * RADIUS - 1) * 4 * srow;
+      vf carry[13];
+#pragma unroll
+      for (int c = 0; c < 13; ++c) carry[c] = (vf)(0.0f);
+      // 3. Output row t - RADIUS: window means of (a, b), applied to the guide.
+      const int yo = t - RADIUS;
+      const bool out_row = yo >= y0;
+      __global const float* guide = in_ring + ring_slot(yo) * 4 * srow;
+      vf carry_ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
+
+      // One pass along the row: step 2 runs one vector behind step 1 and step 3 one behind
+      // step 2, so each reads column sums (up to 16 columns ahead) that are already updated,
+      // while they are still in the L1 cache.
+      for (int x0 = 0; x0 < w + 2 * VW; x0 += VW) {
+        if (x0 < w) {
+          vf v[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
+          if (yi >= 0 && yi < h) input_row(x0, yi, w, h, v, INPUT_PASS);
+#if TRACE
+          if (yi >= y0 && yi < y1)
+            for (int c = 0; c < 4; ++c) store_row(trace_input + c * plane + yi * w, x0, w, v[c]);
+#endif
+          vf o[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
+          for (int c = 0; c < 4; ++c) {
+            STOREF(ring_in + c * srow + x0, v[c]);
+            if (leave_in) o[c] = LOADF(ring_out + c * srow + x0);
+          }
+          const vf m[13] = {v[0] - o[0],
+                            v[1] - o[1],
+                            v[2] - o[2],
+                            v[3] - o[3],
+                            v[0] * v[3] - o[0] * o[3],
+                            v[1] * v[3] - o[1] * o[3],
+                            v[2] * v[3] - o[2] * o[3],
+                            v[0] * v[0] - o[0] * o[0],
+                            v[0] * v[1] - o[0] * o[1],
+                            v[0] * v[2] - o[0] * o[2],
+                            v[1] * v[1] - o[1] * o[1],
+                            v[1] * v[2] - o[1] * o[2],
+                            v[2] * v[2] - o[2] * o[2]};
+#pragma unroll
+          for (int c = 0; c < 13; ++c) {
+            __global float* p = col + c * srow + x0;
+            STOREF(p, LOADF(p) + m[c]);
+          }
+        }
+
+        const int x2 = x0 - VW;
+        if (x2 < w && (ab_valid || x2 >= 0)) {
+          vf ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
+          if (ab_valid) {
+            vf s[13];
+#pragma unroll
+            for (int c = 0; c < 13; ++c) s[c] = window_sums(col + c * srow, x2, &carry[c]);
+            if (x2 >= 0) {
+              const vf n = window_counts(x2, t, w, h);
+#if INPUT_MODE != 0
+              // CVF's inputs lie in [0, 1], so a window sum of 0 or of n means p is constant
+              // over the window: then cov(I, p) = 0, a = 0 and b = p exactly, which is most of
+              // the frame (off the object and inside known regions); the solve is skipped there.
+              const vi flat = s[3] == 0.0f || s[3] == n;
 #else
-      const vf q = m[0] * LOADF(guide + x3) + m[1] * LOADF(guide + srow + x3) +
-                   m[2] * LOADF(guide + 2 * srow + x3) + m[3];
+              const vi flat = (vi)(0);
+#endif
+              const vf inv_n = 1.0f / n;
+#pragma unroll
+              for (int c = 0; c < 13; ++c) s[c] *= inv_n;
+              if (!all(flat)) solve_coefficients(s, eps, ab);
+              ab[0] = select(ab[0], (vf)(0.0f), flat);
+              ab[1] = select(ab[1], (vf)(0.0f), flat);
+              ab[2] = select(ab[2], (vf)(0.0f), flat);
+              ab[3] = select(ab[3], s[3], flat);
+              const vi inside = lanes() + x2 < w;
+              for (int c = 0; c < 4; ++c) ab[c] = select((vf)(0.0f), ab[c], inside);
+            }
+          }
+          if (x2 >= 0) {
+            for (int c = 0; c < 4; ++c) {
+              STOREF(ab_in + c * srow + x2, ab[c]);
+              const vf o = leave_ab ? LOADF(ab_out + c * srow + x2) : (vf)(0.0f);
+              __global float* p = col_ab + c * srow + x2;
+              STOREF(p, LOADF(p) + ab[c] - o);
+            }
+          }
+        }
+
+        const int x3 = x0 - 2 * VW;
+        if (!out_row || x3 < -VW || x3 >= w) continue;
+        vf m[4];
+#pragma unroll
+        for (int c = 0; c < 4; ++c) m[c] = window_sums(col_ab + c * srow, x3, &carry_ab[c]);
+        if (x3 < 0) continue;
+        const vf inv_n = inverse_counts(x3, yo, w, h);
+        for (int c = 0; c < 4; ++c) m[c] *= inv_n;
+#if OUTPUT_MODE == 0
+        const int pitch = w + 2 * MEAN_PAD;
+        for (int c = 0; c < 4; ++c) {
+          __global float* row = mean_out + c * pitch * h + yo * pitch + MEAN_PAD;
+          store_row(row, x3, w, m[c]);
+          float tm[VW];
+          vstore16(m[c], 0, tm);
+          if (x3 == 0) STOREF(row - MEAN_PAD, (vf)(tm[0]));
+          if (x3 + VW >= w) STOREF(row + w, (vf)(tm[w - 1 - x3]));
+        }
+#else
+        const vf q = m[0] * LOADF(guide + x3) + m[1] * LOADF(guide + srow + x3) +
+                     m[2] * LOADF(guide + 2 * srow + x3) + m[3];
 #if OUTPUT_MODE == 1
-      const vf vd = load_row(out_virtual_mm + yo * w, x3, w);
-      store_row(alpha + yo * w, x3, w, select((vf)(0.0f), clamp(1.0f - q, 0.0f, 1.0f), vd > 0.0f));
+        const vf vd = load_row(out_virtual_mm + yo * w, x3, w);
+        store_row(alpha + yo * w, x3, w,
+                  select((vf)(0.0f), clamp(1.0f - q, 0.0f, 1.0f), vd > 0.0f));
 #else
-      store_row(alpha + yo * w, x3, w, q);
+        store_row(alpha + yo * w, x3, w, q);
 #endif
 #endif
+      }
     }
   }
 }

@@ -45,9 +45,16 @@ class StripGuidedFilter {
 
   // Arguments from index kFirstArg on are the input's and output's (cvf_guided.cl,
   // KERNEL_INPUT_ARGS and OUTPUT_ARGS, then the trace buffer); run() sets the ones before
-  // (sizes, eps, scratch) and enqueues over w x h, one work-item per strip of rows.
+  // (sizes, eps, scratch, the active rows) and enqueues over w x h, one work-item per strip of
+  // rows.
   ::cl::Kernel& kernel() { return kernel_; }
-  static constexpr cl_uint kFirstArg = 5;
+  static constexpr cl_uint kFirstArg = 9;
+
+  // Computes only the output rows with an object row (row_object[y] != 0, y < n_rows, at full
+  // resolution) within `reach` full rows of theirs (output row yo covers full rows yo scale ..
+  // yo scale + scale - 1), and writes CVF's constant output elsewhere (cvf_guided.cl,
+  // row_active()). reach < 0 (the default): every row.
+  void set_active_rows(const ::cl::Buffer& row_object, int n_rows, int scale, int reach);
   void run(int w, int h);
 
  private:
@@ -57,6 +64,8 @@ class StripGuidedFilter {
   ::cl::Kernel kernel_;
   ::cl::Buffer scratch_;
   std::size_t scratch_bytes_ = 0;
+  ::cl::Buffer row_object_;
+  int n_rows_ = 0, row_scale_ = 1, reach_ = -1;
 };
 
 }  // namespace probeless::occlusion

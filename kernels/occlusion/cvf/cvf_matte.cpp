@@ -254,14 +254,26 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
       classify_scratch_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, bytes);
       classify_scratch_bytes_ = bytes;
     }
+    if (h > row_object_rows_) {
+      row_object_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, sizeof(cl_int) * h);
+      row_object_rows_ = h;
+    }
     set_args(classify_, w, h, strip_rows, p.categorise.depth_tolerance_mm, classify_scratch_,
              in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), in.colour->buffer(),
-             categories, hist_);
-    if (local_) set_args_from(classify_, 10, tx, tile_hist_, prior_.buffer());
+             categories, hist_, row_object_);
+    if (local_) set_args_from(classify_, 11, tx, tile_hist_, prior_.buffer());
     q.enqueueNDRangeKernel(classify_, ::cl::NullRange,
                            ::cl::NDRange(1, static_cast<std::size_t>(groups)), ::cl::NDRange(1, 1));
   }
   stage_done("categories + band + histograms");
+  // Rows whose filter windows see no object are not filtered (cvf_guided.cl, row_active()):
+  // the wide filter's output there is (a, b) = (0, 0.5) from the constant cost, needing no
+  // object within 2 r full rows of its window's centre row (r at its resolution); the
+  // feather's alpha is 0 off the object. The trace wants every row's input.
+  if (!trace_) {
+    wide_->set_active_rows(row_object_, h, s, 2 * wide_->radius() * s);
+    feather_->set_active_rows(row_object_, h, 1, 0);
+  }
   if (local_) {
     // The tiles' likelihoods shrunk towards the frame's, its overlap and validity.
     set_args(likelihoods_, tile_hist_, hist_, tiles, p.min_samples, lik_, overlap_, stats_);

@@ -9,6 +9,7 @@
 
 #include "kernels/occlusion/cvf/cvf_local_reference.hpp"
 #include "kernels/occlusion/cvf/cvf_matte.hpp"
+#include "kernels/occlusion/cvf/cvf_reference.hpp"
 #include "kernels/occlusion/method_registry.hpp"
 #include "lab/eval/middlebury_dataset.hpp"
 #include "support/cl_context.hpp"
@@ -158,6 +159,47 @@ TEST(CvfShippedDevice, MatchesReferenceAcrossStripsTilesAndParameters) {
   p = {};
   p.cvf.wide.subsample = 2;
   expect_matches(random_scene(97, 61, 16), p, CvfLayout::Strips, "fast wide filter");
+}
+
+// Without a trace the strip filters skip rows whose windows see no object (cvf_guided.cl,
+// row_active()); alpha must still be the reference's everywhere. The object covers a band of
+// rows and a disc, so that strips hold several spans and skipped rows between them.
+TEST(CvfShippedDevice, SkipsRowsFarFromTheObjectExactly) {
+  auto& ctx = testing::cl_context();
+  for (const bool thesis : {false, true}) {
+    for (const int subsample : {1, 2}) {
+      auto s = random_scene(150, 230, 21);
+      for (int y = 0; y < s.virt.height(); ++y)
+        for (int x = 0; x < s.virt.width(); ++x) {
+          const bool band = y >= 30 && y < 61;
+          const bool disc = std::hypot(x - 70.0F, y - 170.0F) < 12.0F;
+          if (!band && !disc) s.virt.at(x, y) = 0.0F;
+        }
+      CvfLocalParams lp;
+      lp.cvf.wide.subsample = subsample;
+      CvfParams tp;
+      tp.wide.subsample = subsample;
+      const auto want = thesis ? cvf_reference(s.colour, s.depth, s.virt, tp).alpha
+                               : cvf_local_reference(s.colour, s.depth, s.virt, lp).alpha;
+      auto cvf = thesis ? std::make_unique<CvfMatte>(ctx, tp, false, CvfLayout::Strips)
+                        : std::make_unique<CvfMatte>(ctx, lp, false, CvfLayout::Strips);
+      DeviceImageRGB8 colour(ctx, s.colour);
+      DeviceDepthImage depth(ctx, s.depth);
+      DeviceImageF virt(ctx, s.virt), alpha;
+      // Garbage in the output first: skipped rows must be written, not left.
+      alpha.upload(ctx.queue(), ImageF(s.virt.width(), s.virt.height(), 7.0F));
+      cvf->process({&colour, &depth, &virt}, alpha);
+      const auto got = alpha.download(ctx.queue());
+      int far = 0, on = 0;
+      for (int y = 0; y < got.height(); ++y)
+        for (int x = 0; x < got.width(); ++x) {
+          if (std::fabs(got.at(x, y) - want.at(x, y)) > 1e-3F) ++far;
+          if (want.at(x, y) > 0.0F) ++on;
+        }
+      EXPECT_LE(far, 10) << (thesis ? "cvf_thesis" : "cvf") << " subsample " << subsample;
+      EXPECT_GT(on, 1000);
+    }
+  }
 }
 
 TEST(CvfShippedDevice, FallsBackToTheDepthTestWithFewSamples) {
