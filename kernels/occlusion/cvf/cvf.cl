@@ -81,7 +81,7 @@ inline vf raw_categories(__global const ushort* real_mm, __global const float* v
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
     int w, int h, int strip_rows, float tolerance_mm, __global float* scratch,
     __global const ushort* real_mm, __global const float* virtual_mm, __global const uchar* rgb,
-    __global uchar* categories, __global uint* hist, __global int* row_object LOCAL_ARGS) {
+    __global uchar* categories, __global uint* hist, __global int* object_cols LOCAL_ARGS) {
   __local uint local_hist[2 * NBINS];
   for (int k = 0; k < 2 * NBINS; ++k) local_hist[k] = 0;
   const int srow = PAD + (w + VW - 1) / VW * VW + PAD;
@@ -204,12 +204,15 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
     if (yb < y0 || yb >= y1) continue;
     __global const float* row = cat + slot(yb, NCAT) * srow;
     vf carry = (vf)(0.0f);
-    vi on_object = (vi)(0);
+    int object_begin = w, object_end = 0;
     for (int x0 = -VW; x0 < w; x0 += VW) {
       const vf near_pr = running_window_sums(count_pr, x0, BAND, &carry);
       if (x0 < 0) continue;
       const vf c = LOADF(row + x0);
-      on_object |= c != (vf)(CAT_IGNORE);
+      if (any(c != (vf)(CAT_IGNORE))) {
+        object_begin = min(object_begin, x0);
+        object_end = min(w, x0 + VW);
+      }
       const vi band = near_pr > 0.5f;
       const uchar16 byte = convert_uchar16(c) + convert_uchar16(-band) * (uchar16)(BAND_BIT);
       const int i = yb * w + x0;
@@ -247,8 +250,10 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
 #endif
         }
     }
-    // Rows without the object: the filters skip what lies far from them (cvf_guided.cl).
-    row_object[yb] = any(on_object) ? 1 : 0;
+    // The columns that hold the object (to 16 px): the filters skip what lies far from them
+    // (cvf_guided.cl, object_columns()).
+    object_cols[2 * yb] = object_begin;
+    object_cols[2 * yb + 1] = object_end;
 #if LOCAL
     // 3b. The row of tiles (or the strip) ends: its counts go to the tiles' histograms.
     if ((yb + 1) % TILE == 0 || yb == y1 - 1) {

@@ -470,22 +470,45 @@ inline vf inverse_counts(int x0, int y, int w, int h) {
   return 1.0f / window_counts(x0, y, w, h);
 }
 
-// Rows far from the virtual object: with CVF's inputs the filter's output there is known
-// without filtering (docs/occlusion.md "Speed"). row_object[y] != 0 where full-resolution row
-// y (of n_rows) has an on-object pixel; output row yo covers full rows [yo scale, yo scale +
-// scale) and is computed when an object row lies within `reach` full rows of them (reach < 0:
-// every row). The host picks reach so that the skipped rows' output is the constant below.
-inline bool row_active(int yo, __global const int* row_object, int n_rows, int scale, int reach) {
-  if (reach < 0) return true;
+// Pixels far from the virtual object: with CVF's inputs the filter's output there is known
+// without filtering (docs/occlusion.md "Speed"). object_cols[2 y], [2 y + 1]: the columns
+// [begin, end) of full-resolution row y (of n_rows) that hold its on-object pixels (begin >=
+// end: none). Output row yo covers full rows [yo scale, yo scale + scale); the columns it
+// computes are those within `reach` full-resolution pixels of an object pixel in the rows
+// within `reach` of its own (reach < 0: every pixel). The host picks reach so that the output
+// elsewhere is the constant written there: CVF's cost 0.5 off the object makes a = 0, b = 0.5
+// (OUTPUT_MODE 0), and alpha is 0 off the object (OUTPUT_MODE 1). Returns the full-resolution
+// columns [x, y) of the object pixels near output row yo (x >= y: none).
+inline int2 object_columns(int yo, __global const int* object_cols, int n_rows, int scale,
+                           int reach) {
+  int2 r = (int2)(1 << 30, -(1 << 30));
   const int a = max(0, yo * scale - reach), b = min(n_rows - 1, yo * scale + scale - 1 + reach);
-  for (int y = a; y <= b; ++y)
-    if (row_object[y]) return true;
-  return false;
+  for (int y = a; y <= b; ++y) {
+    r.x = min(r.x, object_cols[2 * y]);
+    r.y = max(r.y, object_cols[2 * y + 1]);
+  }
+  return r;
 }
+
+// CVF's output where no object is near (see above), over the padded row for OUTPUT_MODE 0.
+#if OUTPUT_MODE == 0
+#define CONSTANT_ROW(yo)                                                 \
+  {                                                                      \
+    const int pitch = w + 2 * MEAN_PAD;                                  \
+    for (int c = 0; c < 4; ++c)                                          \
+      for (int x = 0; x < pitch; ++x)                                    \
+        mean_out[c * pitch * h + (yo)*pitch + x] = c == 3 ? 0.5f : 0.0f; \
+  }
+#elif OUTPUT_MODE == 1
+#define CONSTANT_ROW(yo) \
+  for (int x = 0; x < w; ++x) alpha[(yo)*w + x] = 0.0f;
+#else
+#define CONSTANT_ROW(yo)
+#endif
 
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
     int w, int h, int strip_rows, float eps, __global float* scratch,
-    __global const int* row_object, int n_rows, int row_scale, int reach, KERNEL_INPUT_ARGS,
+    __global const int* object_cols, int n_rows, int row_scale, int reach, KERNEL_INPUT_ARGS,
     OUTPUT_ARGS
 #if TRACE
     ,
@@ -502,27 +525,37 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
   const int plane = w * h;
   const int strip0 = (int)get_group_id(1) * strip_rows;
   const int strip1 = min(h, strip0 + strip_rows);
-  // Spans of consecutive active rows, each streamed as a strip of its own (warm-up included);
-  // rows between them get the constant output: CVF's cost 0.5 off the object makes a = 0,
-  // b = 0.5 (OUTPUT_MODE 0), and alpha is 0 off the object (OUTPUT_MODE 1).
+  // Spans of consecutive rows near the object, each streamed as a strip of its own (warm-up
+  // included) over the columns near the object in any of its rows; the rest gets the constant.
+  const int reach_l = reach / row_scale;  // in the filter's pixels
   for (int span = strip0; span < strip1;) {
-    if (!row_active(span, row_object, n_rows, row_scale, reach)) {
-#if OUTPUT_MODE == 0
-      const int pitch = w + 2 * MEAN_PAD;
-      for (int c = 0; c < 4; ++c)
-        for (int x = 0; x < pitch; ++x)
-          mean_out[c * pitch * h + span * pitch + x] = c == 3 ? 0.5f : 0.0f;
-#elif OUTPUT_MODE == 1
-      for (int x = 0; x < w; ++x) alpha[span * w + x] = 0.0f;
-#endif
+    int2 cols = reach < 0 ? (int2)(0, w * row_scale)
+                          : object_columns(span, object_cols, n_rows, row_scale, reach);
+    if (cols.x >= cols.y) {
+      CONSTANT_ROW(span);
       ++span;
       continue;
     }
     int span_end = span + 1;
-    while (span_end < strip1 && row_active(span_end, row_object, n_rows, row_scale, reach))
-      ++span_end;
+    for (; span_end < strip1 && reach >= 0; ++span_end) {
+      const int2 c = object_columns(span_end, object_cols, n_rows, row_scale, reach);
+      if (c.x >= c.y) break;
+      cols = (int2)(min(cols.x, c.x), max(cols.y, c.y));
+    }
+    if (reach < 0) span_end = strip1;
     const int y0 = span, y1 = span_end;
     span = span_end;
+    // Output columns [out_lo, out_hi) are computed; the window sums are exact from 2 RADIUS + 1
+    // columns inside the streamed columns [xa, xb) (zero columns stand in outside).
+    const int out_lo = reach < 0 ? 0 : max(0, cols.x / row_scale - reach_l);
+    const int out_hi = reach < 0 ? w : min(w, (cols.y + row_scale - 1) / row_scale + reach_l);
+    const int xa = max(0, out_lo - 2 * RADIUS - 1) / VW * VW;
+    const int xb = min(w, out_hi + 2 * RADIUS + 1);
+    if (xa > 0 || xb < w) {
+      for (int y = y0; y < y1; ++y) {
+        CONSTANT_ROW(y)
+      }
+    }
     for (int k = -PAD; k < 13 * srow - PAD; ++k) col[k] = 0.0f;
     for (int k = -PAD; k < 4 * srow - PAD; ++k) col_ab[k] = 0.0f;
 
@@ -552,8 +585,8 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
       // One pass along the row: step 2 runs one vector behind step 1 and step 3 one behind
       // step 2, so each reads column sums (up to 16 columns ahead) that are already updated,
       // while they are still in the L1 cache.
-      for (int x0 = 0; x0 < w + 2 * VW; x0 += VW) {
-        if (x0 < w) {
+      for (int x0 = xa; x0 < xb + 2 * VW; x0 += VW) {
+        if (x0 < xb) {
           vf v[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
           if (yi >= 0 && yi < h) input_row(x0, yi, w, h, v, INPUT_PASS);
 #if TRACE
@@ -586,13 +619,13 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
         }
 
         const int x2 = x0 - VW;
-        if (x2 < w && (ab_valid || x2 >= 0)) {
+        if (x2 < xb && (ab_valid || x2 >= xa)) {
           vf ab[4] = {(vf)(0.0f), (vf)(0.0f), (vf)(0.0f), (vf)(0.0f)};
           if (ab_valid) {
             vf s[13];
 #pragma unroll
             for (int c = 0; c < 13; ++c) s[c] = window_sums(col + c * srow, x2, &carry[c]);
-            if (x2 >= 0) {
+            if (x2 >= xa) {
               const vf n = window_counts(x2, t, w, h);
 #if INPUT_MODE != 0
               // CVF's inputs lie in [0, 1], so a window sum of 0 or of n means p is constant
@@ -614,7 +647,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
               for (int c = 0; c < 4; ++c) ab[c] = select((vf)(0.0f), ab[c], inside);
             }
           }
-          if (x2 >= 0) {
+          if (x2 >= xa) {
             for (int c = 0; c < 4; ++c) {
               STOREF(ab_in + c * srow + x2, ab[c]);
               const vf o = leave_ab ? LOADF(ab_out + c * srow + x2) : (vf)(0.0f);
@@ -625,15 +658,18 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void gf_strip(
         }
 
         const int x3 = x0 - 2 * VW;
-        if (!out_row || x3 < -VW || x3 >= w) continue;
+        if (!out_row || x3 < xa - VW || x3 >= xb) continue;
         vf m[4];
 #pragma unroll
         for (int c = 0; c < 4; ++c) m[c] = window_sums(col_ab + c * srow, x3, &carry_ab[c]);
-        if (x3 < 0) continue;
+        if (x3 < xa) continue;
         const vf inv_n = inverse_counts(x3, yo, w, h);
         for (int c = 0; c < 4; ++c) m[c] *= inv_n;
 #if OUTPUT_MODE == 0
         const int pitch = w + 2 * MEAN_PAD;
+        // Near the streamed range's ends the sums miss columns: the constant holds there.
+        const vi near = lanes() + x3 >= out_lo && lanes() + x3 < out_hi;
+        for (int c = 0; c < 4; ++c) m[c] = select((vf)(c == 3 ? 0.5f : 0.0f), m[c], near);
         for (int c = 0; c < 4; ++c) {
           __global float* row = mean_out + c * pitch * h + yo * pitch + MEAN_PAD;
           store_row(row, x3, w, m[c]);

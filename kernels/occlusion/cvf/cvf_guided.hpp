@@ -50,11 +50,12 @@ class StripGuidedFilter {
   ::cl::Kernel& kernel() { return kernel_; }
   static constexpr cl_uint kFirstArg = 9;
 
-  // Computes only the output rows with an object row (row_object[y] != 0, y < n_rows, at full
-  // resolution) within `reach` full rows of theirs (output row yo covers full rows yo scale ..
-  // yo scale + scale - 1), and writes CVF's constant output elsewhere (cvf_guided.cl,
-  // row_active()). reach < 0 (the default): every row.
-  void set_active_rows(const ::cl::Buffer& row_object, int n_rows, int scale, int reach);
+  // Computes only the output pixels with an object pixel within `reach` full-resolution pixels
+  // (object_cols: per full-resolution row y < n_rows the object's columns [begin, end) at
+  // [2 y], [2 y + 1]; output row yo covers full rows yo scale .. yo scale + scale - 1), and
+  // writes CVF's constant output elsewhere (cvf_guided.cl, object_columns()). reach < 0 (the
+  // default): every pixel.
+  void set_active_rows(const ::cl::Buffer& object_cols, int n_rows, int scale, int reach);
   void run(int w, int h);
 
  private:

@@ -255,7 +255,7 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
       classify_scratch_bytes_ = bytes;
     }
     if (h > row_object_rows_) {
-      row_object_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, sizeof(cl_int) * h);
+      row_object_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, 2 * sizeof(cl_int) * h);
       row_object_rows_ = h;
     }
     set_args(classify_, w, h, strip_rows, p.categorise.depth_tolerance_mm, classify_scratch_,
@@ -266,10 +266,10 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
                            ::cl::NDRange(1, static_cast<std::size_t>(groups)), ::cl::NDRange(1, 1));
   }
   stage_done("categories + band + histograms");
-  // Rows whose filter windows see no object are not filtered (cvf_guided.cl, row_active()):
-  // the wide filter's output there is (a, b) = (0, 0.5) from the constant cost, needing no
-  // object within 2 r full rows of its window's centre row (r at its resolution); the
-  // feather's alpha is 0 off the object. The trace wants every row's input.
+  // Pixels whose filter windows see no object are not filtered (cvf_guided.cl,
+  // object_columns()): the wide filter's output there is (a, b) = (0, 0.5) from the constant
+  // cost, needing no object within 2 r of its pixel (r at its resolution); the feather's alpha
+  // is 0 off the object. The trace wants every pixel's input.
   if (!trace_) {
     wide_->set_active_rows(row_object_, h, s, 2 * wide_->radius() * s);
     feather_->set_active_rows(row_object_, h, 1, 0);

@@ -106,7 +106,7 @@ class CvfMatte final : public OcclusionMethod {
   DeviceImageGray8 categories_;  // Category in bits 0-1, the band in bit 2 (cvf.cl)
   ::cl::Buffer classify_scratch_;
   std::size_t classify_scratch_bytes_ = 0;
-  ::cl::Buffer row_object_;  // per row: any on-object pixel (cvf.cl), read by the filters
+  ::cl::Buffer row_object_;  // per row: the columns [begin, end) of the object (cvf.cl)
   int row_object_rows_ = 0;
   // Local colour models: the tiles' histograms, their likelihoods, the frame's overlap and
   // validity (cvf_local_histogram.cl's layout) and the prior's window counts.

@@ -161,19 +161,23 @@ TEST(CvfShippedDevice, MatchesReferenceAcrossStripsTilesAndParameters) {
   expect_matches(random_scene(97, 61, 16), p, CvfLayout::Strips, "fast wide filter");
 }
 
-// Without a trace the strip filters skip rows whose windows see no object (cvf_guided.cl,
-// row_active()); alpha must still be the reference's everywhere. The object covers a band of
-// rows and a disc, so that strips hold several spans and skipped rows between them.
-TEST(CvfShippedDevice, SkipsRowsFarFromTheObjectExactly) {
+// Without a trace the strip filters skip pixels whose windows see no object (cvf_guided.cl,
+// object_columns()); alpha must still be the reference's everywhere. The object is a block of
+// rows and columns and a disc, so that strips hold several spans, skipped rows between them
+// and skipped columns beside them.
+TEST(CvfShippedDevice, SkipsPixelsFarFromTheObjectExactly) {
   auto& ctx = testing::cl_context();
   for (const bool thesis : {false, true}) {
     for (const int subsample : {1, 2}) {
       auto s = random_scene(150, 230, 21);
       for (int y = 0; y < s.virt.height(); ++y)
         for (int x = 0; x < s.virt.width(); ++x) {
-          const bool band = y >= 30 && y < 61;
+          const bool band = y >= 30 && y < 61 && x >= 37 && x < 111;
           const bool disc = std::hypot(x - 70.0F, y - 170.0F) < 12.0F;
           if (!band && !disc) s.virt.at(x, y) = 0.0F;
+          // A real surface in front over the block's top: the wide filter carries its cost
+          // beyond the object's outline, which the feather reads there.
+          if (y < 45 && s.depth.at(x, y) != 0) s.depth.at(x, y) = 500;
         }
       CvfLocalParams lp;
       lp.cvf.wide.subsample = subsample;
@@ -196,7 +200,9 @@ TEST(CvfShippedDevice, SkipsRowsFarFromTheObjectExactly) {
           if (std::fabs(got.at(x, y) - want.at(x, y)) > 1e-3F) ++far;
           if (want.at(x, y) > 0.0F) ++on;
         }
-      EXPECT_LE(far, 10) << (thesis ? "cvf_thesis" : "cvf") << " subsample " << subsample;
+      // A threshold may flip within float noise of 0.5; a window cut short would differ on
+      // the block's top edge (163 pixels with the wide filter's reach set to 0).
+      EXPECT_LE(far, 3) << (thesis ? "cvf_thesis" : "cvf") << " subsample " << subsample;
       EXPECT_GT(on, 1000);
     }
   }
