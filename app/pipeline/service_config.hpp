@@ -60,9 +60,9 @@ struct ServiceConfig {
   GroundConfig ground;
 
   // The shipped CVF (local colour models) for every source, since every rig gives depth: the
-  // lowest mean MSE of the evaluator's methods on Middlebury and alphamatting.com, ~3 ms a
-  // 640x480 frame on two cores (docs/occlusion.md "CVF as shipped"); kernels/occlusion/
-  // method_registry.hpp lists the others.
+  // lowest mean MSE of the evaluator's methods on Middlebury and alphamatting.com, 5.5-6.6
+  // CPU-ms a 640x480 frame on PoCL (docs/occlusion.md "CVF as shipped", "Speed");
+  // kernels/occlusion/method_registry.hpp lists the others.
   std::string occlusion_method = "cvf";
 
   // The outputs (app/outputs/output.hpp), each section its component's own config.
