@@ -13,14 +13,22 @@
 namespace probeless::occlusion {
 
 const std::vector<std::string>& method_names() {
-  static const std::vector<std::string> names = {
-      "cvf", "direct1", "direct2", "guided", "bilateral", "crabb", "arcore_soft", "meta_soft"};
+  static const std::vector<std::string> names = {"cvf",     "cvf_thesis",  "direct1",
+                                                 "direct2", "guided",      "bilateral",
+                                                 "crabb",   "arcore_soft", "meta_soft"};
   return names;
 }
 
 std::unique_ptr<OcclusionMethod> make_method(ComputeContext& ctx, const std::string& name,
-                                             const CvfParams& cvf) {
-  if (name == "cvf") return std::make_unique<CvfMatte>(ctx, cvf);
+                                             const MethodParams& params) {
+  CvfParams cvf = params.cvf_thesis;
+  cvf.categorise = params.categorise;
+  if (name == "cvf") {
+    CvfLocalParams p = params.cvf;
+    p.cvf.categorise = params.categorise;
+    return std::make_unique<CvfMatte>(ctx, p);
+  }
+  if (name == "cvf_thesis") return std::make_unique<CvfMatte>(ctx, cvf);
   if (name == "direct1") return std::make_unique<DirectMatte>(ctx, UnknownDepth::Occluded);
   if (name == "direct2") return std::make_unique<DirectMatte>(ctx, UnknownDepth::Visible);
   if (name == "guided") {

@@ -1,7 +1,8 @@
-// probeless bench occlusion: CVF per 640x480 frame on the OpenCL device against a CPU CVF
-// built on OpenCV's guided filter, with the MSE of each on the same input so that speed never
-// hides a quality loss (docs/occlusion.md "Speed"). Every timed device frame ends with
-// queue.finish(): the numbers are what the pipeline waits, not enqueue time.
+// probeless bench occlusion: CVF (the shipped method, or --method cvf_thesis) per 640x480 frame
+// on the OpenCL device against the same method on the CPU built on OpenCV's guided filter, with the
+// MSE of each on the same input so that speed never hides a quality loss (docs/occlusion.md
+// "Speed"). Every timed device frame ends with queue.finish(): the numbers are what the pipeline
+// waits, not enqueue time.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
@@ -11,10 +12,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
 
 #include "base/stage_stats.hpp"
+#include "kernels/occlusion/cvf/cvf_local_reference.hpp"
 #include "kernels/occlusion/cvf/cvf_matte.hpp"
 #include "kernels/occlusion/cvf/cvf_reference.hpp"
 #include "lab/cli/lab_commands.hpp"
@@ -29,10 +32,11 @@ using Clock = std::chrono::steady_clock;
 
 struct Options {
   std::string json;
-  std::string scene;  // Middlebury scene directory; empty = look in the shared data
+  std::string scene;           // Middlebury scene directory; empty = look in the shared data
+  std::string method = "cvf";  // or "cvf_thesis"
   int width = 640, height = 480;
   int frames = 200, warmup = 20, reference_frames = 30;
-  int subsample = 0;       // 0 = CvfParams default
+  int subsample = 0;       // 0 = the method's default
   int profile_frames = 0;  // > 0: that many extra frames with a per-stage breakdown
 };
 
@@ -126,12 +130,18 @@ void run(const Options& o) {
     frame = synthetic_frame(o.width, o.height);
     input = fmt::format("synthetic {}x{}", o.width, o.height);
   }
-  occlusion::CvfParams params;
+  if (o.method != "cvf" && o.method != "cvf_thesis")
+    throw CommandError("--method: expected cvf or cvf_thesis, got '" + o.method + "'");
+  const bool thesis = o.method == "cvf_thesis";
+  occlusion::CvfLocalParams local;
+  occlusion::CvfParams params = thesis ? occlusion::CvfParams{} : local.cvf;
   if (o.subsample > 0) params.wide.subsample = o.subsample;
+  local.cvf = params;
 
   ComputeContext ctx;
-  spdlog::info("bench occlusion: {} on {}", input, ctx.describe());
-  occlusion::CvfMatte cvf(ctx, params);
+  spdlog::info("bench occlusion: {} on {} with {}", input, ctx.describe(), o.method);
+  auto cvf = thesis ? std::make_unique<occlusion::CvfMatte>(ctx, params)
+                    : std::make_unique<occlusion::CvfMatte>(ctx, local);
   auto& q = ctx.queue();
   DeviceImageRGB8 colour(ctx, frame.colour);
   DeviceDepthImage depth(ctx, frame.real_depth_mm);
@@ -141,7 +151,7 @@ void run(const Options& o) {
   for (int i = 0; i < o.warmup + o.frames; ++i) {
     if (i == o.warmup) cpu0 = process_cpu_ms();
     const auto t0 = Clock::now();
-    cvf.process({&colour, &depth, &virt}, alpha);
+    cvf->process({&colour, &depth, &virt}, alpha);
     q.finish();
     if (i >= o.warmup) device_ms.push_back(ms_since(t0));
   }
@@ -152,18 +162,18 @@ void run(const Options& o) {
   // somewhat above the unprofiled frame time). Median per stage over the profiled frames.
   std::vector<std::pair<std::string, double>> stages;
   if (o.profile_frames > 0) {
-    cvf.set_profiling(true);
+    cvf->set_profiling(true);
     std::vector<std::vector<double>> per_stage;
     for (int i = 0; i < 5 + o.profile_frames; ++i) {
-      cvf.process({&colour, &depth, &virt}, alpha);
+      cvf->process({&colour, &depth, &virt}, alpha);
       if (i < 5) continue;
-      const auto& times = cvf.stage_times();
+      const auto& times = cvf->stage_times();
       per_stage.resize(times.size());
       for (std::size_t k = 0; k < times.size(); ++k) per_stage[k].push_back(times[k].ms);
     }
     for (std::size_t k = 0; k < per_stage.size(); ++k)
-      stages.emplace_back(cvf.stage_times()[k].stage, percentiles(per_stage[k]).p50);
-    cvf.set_profiling(false);
+      stages.emplace_back(cvf->stage_times()[k].stage, percentiles(per_stage[k]).p50);
+    cvf->set_profiling(false);
   }
 
   std::vector<double> ref_ms;
@@ -172,16 +182,22 @@ void run(const Options& o) {
   for (int i = 0; i < 2 + o.reference_frames; ++i) {
     if (i == 2) ref_cpu0 = process_cpu_ms();
     const auto t0 = Clock::now();
-    ref_alpha = eval::cvf_opencv_reference(frame.colour, frame.real_depth_mm,
-                                           frame.virtual_depth_mm, params);
+    ref_alpha = thesis ? eval::cvf_opencv_reference(frame.colour, frame.real_depth_mm,
+                                                    frame.virtual_depth_mm, params)
+                       : eval::cvf_local_opencv_reference(frame.colour, frame.real_depth_mm,
+                                                          frame.virtual_depth_mm, local);
     if (i >= 2) ref_ms.push_back(ms_since(t0));
   }
   const double ref_cpu_ms = (process_cpu_ms() - ref_cpu0) / std::max(1, o.reference_frames);
-  occlusion::CvfParams exact = params;
-  exact.wide.subsample = 1;
-  const auto exact_alpha =
-      occlusion::cvf_reference(frame.colour, frame.real_depth_mm, frame.virtual_depth_mm, exact)
-          .alpha;
+  occlusion::CvfLocalParams exact = local;
+  exact.cvf.wide.subsample = 1;
+  const auto exact_alpha = thesis
+                               ? occlusion::cvf_reference(frame.colour, frame.real_depth_mm,
+                                                          frame.virtual_depth_mm, exact.cvf)
+                                     .alpha
+                               : occlusion::cvf_local_reference(frame.colour, frame.real_depth_mm,
+                                                                frame.virtual_depth_mm, exact)
+                                     .alpha;
 
   const double mse_device = eval::matte_mse(device_alpha, frame.truth, frame.mask).value_or(0);
   const double mse_ref = eval::matte_mse(ref_alpha, frame.truth, frame.mask).value_or(0);
@@ -193,13 +209,16 @@ void run(const Options& o) {
                            load_average())
             << fmt::format("{:<34} {:>9} {:>9} {:>9} {:>10}\n", "", "p50 ms", "p99 ms", "cpu ms",
                            "MSE x1e3")
-            << fmt::format("{:<34} {:>9.2f} {:>9.2f} {:>9.2f} {:>10.4f}\n",
-                           fmt::format("cvf (OpenCL, wide subsample {})", params.wide.subsample),
-                           td.p50, td.p99, device_cpu_ms, mse_device * 1e3)
+            << fmt::format(
+                   "{:<34} {:>9.2f} {:>9.2f} {:>9.2f} {:>10.4f}\n",
+                   fmt::format("{} (OpenCL, wide subsample {})", o.method, params.wide.subsample),
+                   td.p50, td.p99, device_cpu_ms, mse_device * 1e3)
             << fmt::format("{:<34} {:>9.2f} {:>9.2f} {:>9.2f} {:>10.4f}\n",
                            "opencv reference (CPU)", tr.p50, tr.p99, ref_cpu_ms, mse_ref * 1e3)
             << fmt::format("{:<34} {:>9} {:>9} {:>9} {:>10.4f}\n",
-                           "exact reference (cvf_reference)", "-", "-", "-", mse_exact * 1e3)
+                           thesis ? "exact reference (cvf_reference)"
+                                  : "exact reference (cvf_local_reference)",
+                           "-", "-", "-", mse_exact * 1e3)
             << fmt::format(
                    "speedup (p50): {:.2f}x; cpu time ratio: {:.2f}x; cvf MSE / exact MSE: "
                    "{:.4f}\n",
@@ -210,7 +229,8 @@ void run(const Options& o) {
   if (!stages.empty()) {
     double total = 0;
     std::cout << fmt::format(
-        "cvf stages (median of {} profiled frames, queue drained after each):\n", o.profile_frames);
+        "{} stages (median of {} profiled frames, queue drained after each):\n", o.method,
+        o.profile_frames);
     for (const auto& [stage, ms] : stages) {
       std::cout << fmt::format("  {:<24} {:>7.2f} ms\n", stage, ms);
       total += ms;
@@ -219,6 +239,7 @@ void run(const Options& o) {
   }
   if (!o.json.empty()) {
     nlohmann::json j;
+    j["method"] = o.method;
     j["cvf"] = {{"p50_ms", td.p50},
                 {"p99_ms", td.p99},
                 {"cpu_ms", device_cpu_ms},
@@ -246,11 +267,15 @@ void add_bench_occlusion_command(CLI::App& bench) {
   cmd->add_option("--scene", o->scene,
                   "Middlebury scene directory (default: shared data's 2014q/Adirondack, "
                   "else a synthetic frame)");
+  cmd->add_option("--method", o->method,
+                  "cvf (the shipped CVF) or cvf_thesis (the thesis's, one colour model per frame)")
+      ->capture_default_str();
   cmd->add_option("--frames", o->frames, "Timed device frames")->capture_default_str();
   cmd->add_option("--reference-frames", o->reference_frames, "Timed OpenCV frames")
       ->capture_default_str();
   cmd->add_option("--cvf-subsample", o->subsample,
-                  "CVF's wide filter subsampling (1 = exact, 2 = fast guided filter)");
+                  "CVF's wide filter subsampling (1 = exact, 2 = fast guided filter; default: "
+                  "cvf 1, cvf_thesis 2)");
   cmd->add_option("--profile", o->profile_frames,
                   "Also run this many frames in profiling mode (queue drained after every "
                   "stage) and print the median time per stage");

@@ -49,11 +49,11 @@ void run(const Options& o) {
         opts.crop_height <= 0)
       throw CommandError("--crop: expected WxH, e.g. 96x64");
   }
-  if (o.wide_subsample > 0) opts.settings.cvf.wide.subsample = o.wide_subsample;
+  if (o.wide_subsample > 0) opts.settings.cvf.cvf.wide.subsample = o.wide_subsample;
   std::string protocol;
   auto cases = eval::load_cases(o.dataset, opts, &protocol);
   // The trimap is exact: there is no lateral depth noise to erode (docs/occlusion.md).
-  if (protocol == "alphamatting") opts.settings.cvf.categorise.erosion_px = 0;
+  if (protocol == "alphamatting") opts.settings.categorise.erosion_px = 0;
   ComputeContext ctx;
   spdlog::info("eval occlusion: {} cases on {}", cases.size(), ctx.describe());
   auto report = eval::evaluate(ctx, cases, opts);
@@ -76,16 +76,18 @@ void add_eval_occlusion_command(CLI::App& eval) {
   cmd->add_option("--json", o->json, "Write the scores as JSON to this file");
   cmd->add_option("--plots", o->plots,
                   "Write bar plots and example mattes (PNG) into this directory");
-  cmd->add_option("--methods", o->methods,
-                  "Comma-separated subset of: cvf,direct1,direct2,guided,bilateral,crabb,"
-                  "arcore_soft,meta_soft");
+  cmd->add_option(
+      "--methods", o->methods,
+      "Comma-separated subset of: cvf,cvf_thesis,direct1,direct2,guided,bilateral,crabb,"
+      "arcore_soft,meta_soft");
   cmd->add_option("--frames", o->frames, "Noisy frames K per Middlebury scene")
       ->capture_default_str();
   cmd->add_option("--seed", o->seed, "First noise seed")->capture_default_str();
   cmd->add_option("--crop", o->crop, "Evaluate the centre WxH crop of every frame");
   cmd->add_option("--max-scenes", o->max_scenes, "Evaluate at most this many scenes (0 = all)");
   cmd->add_option("--cvf-subsample", o->wide_subsample,
-                  "CVF's wide filter subsampling (1 = exact, 2 = fast guided filter)");
+                  "The shipped CVF's wide filter subsampling (1 = exact, its default; 2 = fast "
+                  "guided filter)");
   cmd->callback([o] { run(*o); });
 }
 

@@ -47,6 +47,29 @@ struct CvfParams {
   GuidedFilterParams feather{1, 0.3F, 1};  // after the threshold (author's code)
 };
 
+// The shipped CVF ("cvf", docs/occlusion.md "CVF as shipped"): CVF's parameters with the two
+// filter settings measured better (docs/occlusion.md):
+// the wide filter at r = 3 px, exact (the 3 px of the erosion: a window centred in the eroded
+// band reaches the known pixels on both sides and no further), and the feather filter with the
+// wide filter's eps (the author's 0.3 exceeds any colour variance, so it blurred every edge).
+inline CvfParams cvf_local_filter_defaults() {
+  CvfParams p;
+  p.wide = {3, 0.0025F, 1};
+  p.feather = {1, 0.0025F, 1};
+  return p;
+}
+
+// The shipped CVF's parameters: CVF's and the local colour models' (cvf_local_reference.hpp).
+struct CvfLocalParams {
+  CvfParams cvf = cvf_local_filter_defaults();
+  // Side of a colour-model tile, px; 0 = the global pair only (CVF's model + steps 2 and 3).
+  int tile_px = 32;
+  // Window of the local prior (step 2): the thesis's 3 px of lateral depth-edge uncertainty.
+  int prior_radius = 3;
+  // Step 3; false = CVF's hard threshold on every process pixel.
+  bool soft_where_ambiguous = true;
+};
+
 // Costs (probability that the real surface hides the object), thesis 3.3.3.
 inline constexpr float kCostInfront = 1.0F;
 inline constexpr float kCostBehind = 0.0F;

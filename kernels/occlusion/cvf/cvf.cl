@@ -15,15 +15,33 @@
 //      infront and behind pixels in the band into the work-group's histograms.
 // Counts are small integers, exact in float.
 //
-// Build options: -DEROSION=e -DBAND=b (radii, <= 16), -DBINS=n (histogram bins per channel).
+// With LOCAL=1 (the shipped CVF, local colour models: docs/occlusion.md) it also
+//   2b. keeps running column counts of the ERODED infront and behind pixels over 2 PRIOR + 1
+//      rows and writes, per pixel of row t - PRIOR, the counts of its (2 PRIOR + 1)^2 window
+//      (the local prior: uchar2 (infront, behind) per pixel);
+//   3b. counts each known band pixel's colour into its TILE x TILE tile's histograms as well,
+//      per row of tiles in the strip's scratch, added atomically to `tile_hist` when the row
+//      of tiles (or the strip) ends.
+//
+// Build options: -DEROSION=e -DBAND=b (radii, <= 16), -DBINS=n (histogram bins per channel),
+// -DLOCAL=0/1, and with LOCAL=1 -DTILE=t (tile side, px) -DPRIOR=r (prior radius, <= 7).
 
 #define CAT_IGNORE 0
 #define CAT_BEHIND 1
 #define CAT_INFRONT 2
 #define CAT_PROCESS 3
 #define NBINS (BINS * BINS * BINS)
+#ifndef LOCAL
+#define LOCAL 0
+#endif
+#if !LOCAL
+#undef PRIOR
+#define PRIOR 0
+#endif
+// Rows of eroded categories kept: the band's window and the prior's.
+#define MAXR (BAND > PRIOR ? BAND : PRIOR)
 #define NRAW (2 * EROSION + 2)
-#define NCAT (2 * BAND + 2)
+#define NCAT (2 * MAXR + 2)
 #define BAND_BIT 4
 
 inline int slot(int y, int n) {
@@ -52,26 +70,45 @@ inline vf raw_categories(__global const ushort* real_mm, __global const float* v
   return select((vf)(CAT_IGNORE), c, v > 0.0f);
 }
 
-// Scratch per strip: NRAW raw rows, 2 count rows, NCAT category rows, 1 count row.
+#if LOCAL
+#define LOCAL_ARGS , int tiles_x, __global uint *tile_hist, __global uchar *prior
+#else
+#define LOCAL_ARGS
+#endif
+
+// Scratch per strip: NRAW raw rows, 2 count rows, NCAT category rows, 1 count row; with LOCAL
+// 2 prior count rows and the row of tiles' histograms (tiles_x x 2 NBINS counts).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
     int w, int h, int strip_rows, float tolerance_mm, __global float* scratch,
     __global const ushort* real_mm, __global const float* virtual_mm, __global const uchar* rgb,
-    __global uchar* categories, __global uint* hist) {
+    __global uchar* categories, __global uint* hist, __global int* object_cols LOCAL_ARGS) {
   __local uint local_hist[2 * NBINS];
   for (int k = 0; k < 2 * NBINS; ++k) local_hist[k] = 0;
   const int srow = PAD + (w + VW - 1) / VW * VW + PAD;
-  __global float* raw = scratch + (size_t)get_group_id(1) * srow * (NRAW + 3 + NCAT) + PAD;
+#if LOCAL
+  const size_t strip_floats = (size_t)srow * (NRAW + 5 + NCAT) + (size_t)tiles_x * 2 * NBINS;
+#else
+  const size_t strip_floats = (size_t)srow * (NRAW + 3 + NCAT);
+#endif
+  __global float* raw = scratch + (size_t)get_group_id(1) * strip_floats + PAD;
   __global float* count_in = raw + NRAW * srow;
   __global float* count_be = count_in + srow;
   __global float* cat = count_be + srow;
   __global float* count_pr = cat + NCAT * srow;
   for (int k = -PAD; k < srow - PAD; ++k) count_in[k] = count_be[k] = count_pr[k] = 0.0f;
+#if LOCAL
+  __global float* prior_in = count_pr + srow;
+  __global float* prior_be = prior_in + srow;
+  __global uint* tile_row = (__global uint*)(prior_be + srow - PAD);
+  for (int k = -PAD; k < srow - PAD; ++k) prior_in[k] = prior_be[k] = 0.0f;
+  for (int k = 0; k < tiles_x * 2 * NBINS; ++k) tile_row[k] = 0;
+#endif
   const int y0 = (int)get_group_id(1) * strip_rows;
   const int y1 = min(h, y0 + strip_rows);
 
-  const int first_cat = y0 - BAND, first_raw = first_cat - EROSION;
+  const int first_cat = y0 - MAXR, first_raw = first_cat - EROSION;
   const int start = first_raw - EROSION;
-  for (int t = start; t < y1 + BAND; ++t) {
+  for (int t = start; t < y1 + MAXR; ++t) {
     // 1. Raw row t + EROSION enters the column counts, row t - EROSION - 1 leaves.
     {
       const int ye = t + EROSION;
@@ -119,15 +156,63 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
                                   select((vf)(0.0f), (vf)(1.0f), o == CAT_PROCESS));
       }
     }
+#if LOCAL && PRIOR > 0
+    // 2b. The local prior: eroded row t enters its column counts, row t - 2 PRIOR - 1 leaves;
+    // the window counts of row t - PRIOR go out as (infront, behind) bytes.
+    {
+      const bool leave = t - 2 * PRIOR - 1 >= start;
+      __global const float* in = cat + slot(t, NCAT) * srow;
+      __global const float* out = cat + slot(t - 2 * PRIOR - 1, NCAT) * srow;
+      for (int x0 = 0; x0 < w; x0 += VW) {
+        const vf c = LOADF(in + x0);
+        const vf o = leave ? LOADF(out + x0) : (vf)(0.0f);
+        STOREF(prior_in + x0, LOADF(prior_in + x0) +
+                                  select((vf)(0.0f), (vf)(1.0f), c == CAT_INFRONT) -
+                                  select((vf)(0.0f), (vf)(1.0f), o == CAT_INFRONT));
+        STOREF(prior_be + x0, LOADF(prior_be + x0) +
+                                  select((vf)(0.0f), (vf)(1.0f), c == CAT_BEHIND) -
+                                  select((vf)(0.0f), (vf)(1.0f), o == CAT_BEHIND));
+      }
+      const int yp = t - PRIOR;
+      if (yp >= y0 && yp < y1) {
+        vf carry_in = (vf)(0.0f), carry_be = (vf)(0.0f);
+        for (int x0 = -VW; x0 < w; x0 += VW) {
+          const vf n_in = running_window_sums(prior_in, x0, PRIOR, &carry_in);
+          const vf n_be = running_window_sums(prior_be, x0, PRIOR, &carry_be);
+          if (x0 < 0) continue;
+          const uchar16 a = convert_uchar16(n_in), b = convert_uchar16(n_be);
+          const uchar16 lo =
+              __builtin_shufflevector(a, b, 0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
+          const uchar16 hi = __builtin_shufflevector(a, b, 8, 24, 9, 25, 10, 26, 11, 27, 12, 28, 13,
+                                                     29, 14, 30, 15, 31);
+          __global uchar* dst = prior + 2 * ((size_t)yp * w + x0);
+          if (x0 + VW <= w) {
+            STOREU8(dst, lo);
+            STOREU8(dst + VW, hi);
+          } else {
+            uchar t8[2 * VW];
+            vstore16(lo, 0, t8);
+            vstore16(hi, 1, t8);
+            for (int k = 0; k < 2 * (w - x0); ++k) dst[k] = t8[k];
+          }
+        }
+      }
+    }
+#endif
     // 3. Band of row t - BAND (thesis 3.3.2), its categories out, its colours counted.
     const int yb = t - BAND;
-    if (yb < y0) continue;
+    if (yb < y0 || yb >= y1) continue;
     __global const float* row = cat + slot(yb, NCAT) * srow;
     vf carry = (vf)(0.0f);
+    int object_begin = w, object_end = 0;
     for (int x0 = -VW; x0 < w; x0 += VW) {
       const vf near_pr = running_window_sums(count_pr, x0, BAND, &carry);
       if (x0 < 0) continue;
       const vf c = LOADF(row + x0);
+      if (any(c != (vf)(CAT_IGNORE))) {
+        object_begin = min(object_begin, x0);
+        object_end = min(w, x0 + VW);
+      }
       const vi band = near_pr > 0.5f;
       const uchar16 byte = convert_uchar16(c) + convert_uchar16(-band) * (uchar16)(BAND_BIT);
       const int i = yb * w + x0;
@@ -157,8 +242,29 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
       }
       vstore16(select((vi)(0), (vi)(NBINS), c == CAT_BEHIND) | (known & (vi)(1 << 30)), 0, flags);
       for (int k = 0; k < VW; ++k)
-        if (flags[k] & (1 << 30)) local_hist[(flags[k] & ~(1 << 30)) + bins[k]]++;
+        if (flags[k] & (1 << 30)) {
+          const int j = (flags[k] & ~(1 << 30)) + bins[k];
+          local_hist[j]++;
+#if LOCAL
+          tile_row[(x0 + k) / TILE * 2 * NBINS + j]++;
+#endif
+        }
     }
+    // The columns that hold the object (to 16 px): the filters skip what lies far from them
+    // (cvf_guided.cl, object_columns()).
+    object_cols[2 * yb] = object_begin;
+    object_cols[2 * yb + 1] = object_end;
+#if LOCAL
+    // 3b. The row of tiles (or the strip) ends: its counts go to the tiles' histograms.
+    if ((yb + 1) % TILE == 0 || yb == y1 - 1) {
+      __global uint* dst = tile_hist + (size_t)(yb / TILE) * tiles_x * 2 * NBINS;
+      for (int k = 0; k < tiles_x * 2 * NBINS; ++k)
+        if (tile_row[k]) {
+          atomic_add(&dst[k], tile_row[k]);
+          tile_row[k] = 0;
+        }
+    }
+#endif
   }
   // hist: infront counts [0, NBINS), behind [NBINS, 2 NBINS), then the two totals.
   uint total_in = 0, total_be = 0;

@@ -20,6 +20,15 @@ StripGuidedFilter::StripGuidedFilter(ComputeContext& ctx, int radius, float eps,
   static const std::string source =
       std::string(cl_source::cvf_vector) + std::string(cl_source::cvf_guided);
   kernel_ = ctx.kernel("cvf_guided", source, opts, "gf_strip");
+  row_object_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_ONLY, sizeof(cl_int));
+}
+
+void StripGuidedFilter::set_active_rows(const ::cl::Buffer& row_object, int n_rows, int scale,
+                                        int reach) {
+  row_object_ = row_object;
+  n_rows_ = n_rows;
+  row_scale_ = std::max(1, scale);
+  reach_ = reach;
 }
 
 int StripGuidedFilter::strip_count(int h, int warmup_rows, int units) {
@@ -46,6 +55,10 @@ void StripGuidedFilter::run(int w, int h) {
   kernel_.setArg(2, strip_rows);
   kernel_.setArg(3, eps_);
   kernel_.setArg(4, scratch_);
+  kernel_.setArg(5, row_object_);
+  kernel_.setArg(6, n_rows_);
+  kernel_.setArg(7, row_scale_);
+  kernel_.setArg(8, reach_);
   ctx_.queue().enqueueNDRangeKernel(kernel_, ::cl::NullRange,
                                     ::cl::NDRange(1, static_cast<std::size_t>(groups)),
                                     ::cl::NDRange(1, 1));

@@ -45,9 +45,17 @@ class StripGuidedFilter {
 
   // Arguments from index kFirstArg on are the input's and output's (cvf_guided.cl,
   // KERNEL_INPUT_ARGS and OUTPUT_ARGS, then the trace buffer); run() sets the ones before
-  // (sizes, eps, scratch) and enqueues over w x h, one work-item per strip of rows.
+  // (sizes, eps, scratch, the active rows) and enqueues over w x h, one work-item per strip of
+  // rows.
   ::cl::Kernel& kernel() { return kernel_; }
-  static constexpr cl_uint kFirstArg = 5;
+  static constexpr cl_uint kFirstArg = 9;
+
+  // Computes only the output pixels with an object pixel within `reach` full-resolution pixels
+  // (object_cols: per full-resolution row y < n_rows the object's columns [begin, end) at
+  // [2 y], [2 y + 1]; output row yo covers full rows yo scale .. yo scale + scale - 1), and
+  // writes CVF's constant output elsewhere (cvf_guided.cl, object_columns()). reach < 0 (the
+  // default): every pixel.
+  void set_active_rows(const ::cl::Buffer& object_cols, int n_rows, int scale, int reach);
   void run(int w, int h);
 
  private:
@@ -57,6 +65,8 @@ class StripGuidedFilter {
   ::cl::Kernel kernel_;
   ::cl::Buffer scratch_;
   std::size_t scratch_bytes_ = 0;
+  ::cl::Buffer row_object_;
+  int n_rows_ = 0, row_scale_ = 1, reach_ = -1;
 };
 
 }  // namespace probeless::occlusion

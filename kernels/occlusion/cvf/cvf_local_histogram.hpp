@@ -2,8 +2,9 @@
 // The device stage of CVF with local colour models (cvf_local_histogram.cl; the CPU twin is
 // local_costs_reference() in cvf_local_reference.hpp): per-tile colour histograms in one pass
 // with local-memory counts, the shrunk per-tile likelihoods, and per pixel the local-posterior
-// cost and the softness of the threshold. It replaces CVF's histogram and cost steps; it is
-// not wired into CvfMatte (docs/occlusion.md "Local colour models" says how it would be).
+// cost and the softness of the threshold. CvfMatte's tile layout (GPUs) runs it in place of
+// the thesis's histogram and cost steps; the strip layout (CPUs) fuses the same steps into its
+// row-streaming kernels and shares only cvf_local_likelihoods.
 #include <cstdint>
 
 #include "kernels/occlusion/common/occlusion_method.hpp"
@@ -24,6 +25,10 @@ class CvfLocalHistogram {
            const DeviceImageGray8& band);
 
   const DeviceImageF& cost() const { return cost_; }
+  // The frame's pair (infront [0, n), behind [n, 2n), n = bins^3) and the tiles' pairs
+  // ([tile][2n]) of the last run, for traces.
+  const ::cl::Buffer& global_histogram() const { return hist_; }
+  const ::cl::Buffer& tile_histograms() const { return tile_hist_; }
   const DeviceImageF& softness() const { return softness_; }
   // Blocking: whether the last run had a global pair with >= min_samples per class.
   bool colour_models_valid();

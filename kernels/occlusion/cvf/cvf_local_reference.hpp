@@ -32,27 +32,6 @@
 
 namespace probeless::occlusion {
 
-// CVF's parameters with the two filter settings the change measured better (docs/occlusion.md):
-// the wide filter at r = 3 px, exact (the 3 px of the erosion: a window centred in the eroded
-// band reaches the known pixels on both sides and no further), and the feather filter with the
-// wide filter's eps (the author's 0.3 exceeds any colour variance, so it blurred every edge).
-inline CvfParams cvf_local_filter_defaults() {
-  CvfParams p;
-  p.wide = {3, 0.0025F, 1};
-  p.feather = {1, 0.0025F, 1};
-  return p;
-}
-
-struct CvfLocalParams {
-  CvfParams cvf = cvf_local_filter_defaults();
-  // Side of a colour-model tile, px; 0 = the global pair only (CVF's model + steps 2 and 3).
-  int tile_px = 32;
-  // Window of the local prior (step 2): the thesis's 3 px of lateral depth-edge uncertainty.
-  int prior_radius = 3;
-  // Step 3; false = CVF's hard threshold on every process pixel.
-  bool soft_where_ambiguous = true;
-};
-
 // Per-tile histograms of the band's infront and behind pixels, tile (tx, ty) at index
 // ty * tiles_x + tx, bins_per_channel^3 counts per class and tile.
 struct TileColourModels {

@@ -4,13 +4,18 @@
 // run one work-item per strip of rows and would leave a GPU idle. The device side of
 // cvf_reference.cpp; docs/occlusion.md has the conventions.
 //
-// Build options: -DBINS=b (histogram bins per channel), -DSUBSAMPLE=s (the wide filter's).
+// Build options: -DBINS=b (histogram bins per channel), -DSUBSAMPLE=s (the wide filter's),
+// -DLOCAL=0/1 (1: the shipped CVF with local colour models, whose costs and softness
+// cvf_local_histogram.cl computes; 0: the thesis's CVF).
 
 #define CAT_IGNORE 0
 #define CAT_BEHIND 1
 #define CAT_INFRONT 2
 #define CAT_PROCESS 3
 #define NBINS (BINS * BINS * BINS)
+#ifndef LOCAL
+#define LOCAL 0
+#endif
 
 inline int colour_bin(uchar r, uchar g, uchar b) {
   return ((r * BINS / 256) * BINS + g * BINS / 256) * BINS + b * BINS / 256;
@@ -90,12 +95,40 @@ __kernel void cvf_cost_pack(__global const uchar* rgb, __global const ushort* re
   packed[yl * wl + xl] = sum / (float)n;
 }
 
+// Packs the wide filter's input from a cost image (the shipped CVF: cvf_local_histogram.cl
+// wrote it): (r, g, b, cost) averaged over SUBSAMPLE^2 blocks, rgb in [0, 1].
+__kernel void cvf_cost_image_pack(__global const uchar* rgb, __global const float* cost, int w,
+                                  int h, int wl, int hl, __global float4* packed) {
+  const int xl = get_global_id(0), yl = get_global_id(1);
+  if (xl >= wl || yl >= hl) return;
+  float4 sum = (float4)(0.0f);
+  int n = 0;
+  for (int dy = 0; dy < SUBSAMPLE; ++dy)
+    for (int dx = 0; dx < SUBSAMPLE; ++dx) {
+      const int x = xl * SUBSAMPLE + dx, y = yl * SUBSAMPLE + dy;
+      if (x >= w || y >= h) continue;
+      const int i = y * w + x;
+      sum += (float4)((float)rgb[3 * i], (float)rgb[3 * i + 1], (float)rgb[3 * i + 2], 0.0f) *
+                 (1.0f / 255.0f) +
+             (float4)(0.0f, 0.0f, 0.0f, cost[i]);
+      ++n;
+    }
+  packed[yl * wl + xl] = sum / (float)n;
+}
+
+#if LOCAL
+#define SOFTNESS_ARG , __global const float* softness
+#else
+#define SOFTNESS_ARG
+#endif
+
 // The wide filter's output at full resolution (mean a, b upsampled bilinearly when
-// SUBSAMPLE > 1), thresholded: infront 1, behind 0, else q > 0.5. Packs (r, g, b, mask) for
-// the feather filter.
+// SUBSAMPLE > 1), thresholded: infront 1, behind 0, else q > 0.5, and with LOCAL blended with
+// the soft q by the pixel's softness s (0 off process pixels). Packs (r, g, b, mask) for the
+// feather filter.
 __kernel void cvf_mask_pack(__global const uchar* rgb, __global const uchar* categories,
                             __global const float4* mean_ab, int w, int h, int wl, int hl,
-                            __global float4* packed) {
+                            __global float4* packed SOFTNESS_ARG) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x >= w || y >= h) return;
   const int i = y * w + x;
@@ -116,6 +149,9 @@ __kernel void cvf_mask_pack(__global const uchar* rgb, __global const uchar* cat
 #endif
   const float q = m.x * I.x + m.y * I.y + m.z * I.z + m.w;
   const uchar c = categories[i];
-  const float mask = c == CAT_INFRONT ? 1.0f : c == CAT_BEHIND ? 0.0f : (q > 0.5f ? 1.0f : 0.0f);
+  float mask = c == CAT_INFRONT ? 1.0f : c == CAT_BEHIND ? 0.0f : (q > 0.5f ? 1.0f : 0.0f);
+#if LOCAL
+  if (c == CAT_PROCESS) mask = (1.0f - softness[i]) * mask + softness[i] * clamp(q, 0.0f, 1.0f);
+#endif
   packed[i] = (float4)(I.x, I.y, I.z, mask);
 }

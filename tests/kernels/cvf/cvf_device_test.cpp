@@ -186,7 +186,7 @@ void expect_cvf_matches(int w, int h, std::uint32_t seed, const CvfParams& param
 }
 
 TEST(CvfDevice, AutoLayoutIsStripsOnCpuDevices) {
-  CvfMatte cvf(context());
+  CvfMatte cvf(context(), CvfParams{});
   EXPECT_EQ(cvf.layout(), context().info().type == "CPU" ? CvfLayout::Strips : CvfLayout::Tiles);
 }
 

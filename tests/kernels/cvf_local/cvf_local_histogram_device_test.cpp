@@ -11,7 +11,6 @@
 
 #include "kernels/occlusion/common/categorise_reference.hpp"
 #include "kernels/occlusion/cvf/cvf_local_histogram.hpp"
-#include "lab/eval/method_set.hpp"
 #include "support/cl_context.hpp"
 
 namespace probeless::occlusion {
@@ -116,29 +115,6 @@ TEST(CvfLocalHistogramDevice, FallsBackToTheDepthTestWithoutColourModels) {
   std::mt19937 rng(5);
   const auto f = random_frame(97, 61, rng, /*only_infront=*/true);
   EXPECT_FALSE(expect_matches_reference(f, CvfLocalParams{}, "no behind pixels"));
-}
-
-// The evaluator's "cvf_local" method is the CPU reference on the host, with the categorise
-// parameters of the settings' cvf (so the matting protocol's erosion 0 reaches it).
-TEST(CvfLocalHistogramDevice, EvaluatorMethodRunsTheReference) {
-  auto& ctx = testing::cl_context();
-  std::mt19937 rng(9);
-  const auto f = random_frame(61, 37, rng);
-  eval::MethodSettings settings;
-  settings.cvf.categorise.erosion_px = 0;
-  auto method = eval::make_method(ctx, "cvf_local", settings);
-  EXPECT_EQ(method->name(), "cvf_local");
-  DeviceImageRGB8 colour(ctx, f.colour);
-  DeviceDepthImage depth(ctx, f.depth);
-  DeviceImageF virt(ctx, f.virt), alpha;
-  method->process({&colour, &depth, &virt}, alpha);
-  CvfLocalParams p;
-  p.cvf.categorise.erosion_px = 0;
-  const auto ref = cvf_local_reference(f.colour, f.depth, f.virt, p);
-  EXPECT_EQ(alpha.download(ctx.queue()), ref.alpha);
-  p.cvf.categorise.erosion_px = 3;
-  EXPECT_NE(cvf_local_reference(f.colour, f.depth, f.virt, p).alpha, ref.alpha)
-      << "the erosion must matter on this scene, else the check above proves nothing";
 }
 
 TEST(CvfLocalHistogramDevice, RejectsWhatTheDeviceCannotHold) {
