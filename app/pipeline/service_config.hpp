@@ -13,6 +13,7 @@
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/kms_display.hpp"
 #include "app/outputs/rtsp_server.hpp"
+#include "app/world/world_config.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 
 namespace probeless {
@@ -60,6 +61,8 @@ struct ServiceConfig {
   GroundConfig ground;
 
   std::string occlusion_method = "direct1";  // see docs/occlusion.md for the list
+  TrackingConfig tracking;
+  WorldConfig world;
 
   // The outputs (app/outputs/output.hpp), each section its component's own config.
   HttpServerConfig http;  // [http]: the MJPEG stream, the viewer and /status
