@@ -19,8 +19,8 @@ constexpr std::array<std::string_view, 21> kDictionaries{
     "apriltag_36h11"};
 
 // Their marker counts, in the same order (the apriltag ones as OpenCV 4.6 ships them).
-constexpr std::array<int, 21> kDictionarySizes{50,   100,  250,  1000, 50,   100, 250,
-                                               1000, 50,   100,  250,  1000, 50,  100,
+constexpr std::array<int, 21> kDictionarySizes{50,   100,  250,  1000, 50,   100,  250,
+                                               1000, 50,   100,  250,  1000, 50,   100,
                                                250,  1000, 1024, 30,   35,   2320, 587};
 
 std::vector<std::string_view> split(std::string_view s, char sep) {
@@ -75,12 +75,12 @@ BoardSpec parse_aruco(std::string_view spec, const std::vector<std::string_view>
   b.kind = BoardSpec::Kind::Aruco;
   b.dictionary = parse_dictionary(spec, parts[3]);
   const int size = board_dictionary_size(b.dictionary);
-  const auto [end, ec] = std::from_chars(parts[1].data(), parts[1].data() + parts[1].size(),
-                                         b.marker_id);
+  const auto [end, ec] =
+      std::from_chars(parts[1].data(), parts[1].data() + parts[1].size(), b.marker_id);
   if (ec != std::errc{} || end != parts[1].data() + parts[1].size() || b.marker_id < 0 ||
       b.marker_id >= size)
-    bad(spec, "marker id '" + std::string(parts[1]) + "' is not in 0.." +
-                  std::to_string(size - 1) + " (the dictionary's markers)");
+    bad(spec, "marker id '" + std::string(parts[1]) + "' is not in 0.." + std::to_string(size - 1) +
+                  " (the dictionary's markers)");
   b.marker_mm = parse_mm(spec, parts[2], "marker side");
   return b;
 }

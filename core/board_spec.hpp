@@ -2,9 +2,9 @@
 // A calibration or anchoring target named in one string (issues #17, #18; docs/tracking.md
 // "Boards"): `charuco:COLSxROWS:SQUARE_MM:MARKER_MM:DICT` (the `charuco:` may be left out) or
 // `chessboard:COLSxROWS:SQUARE_MM` (inner corners) or a single ArUco marker
-// `aruco:ID:SIDE_MM:DICT` (world anchoring, docs/tracking.md "World anchoring"). COLS x ROWS of a ChArUco board count its
-// squares, as OpenCV's CharucoBoard::create(squaresX, squaresY, ...) does; DICT is an OpenCV
-// predefined dictionary without its prefix, e.g. `6x6_250` for DICT_6X6_250.
+// `aruco:ID:SIDE_MM:DICT` (world anchoring, docs/tracking.md "World anchoring"). COLS x ROWS of a
+// ChArUco board count its squares, as OpenCV's CharucoBoard::create(squaresX, squaresY, ...) does;
+// DICT is an OpenCV predefined dictionary without its prefix, e.g. `6x6_250` for DICT_6X6_250.
 // Example: `5x7:40:20:6x6_250`, the board of OpenCV's ChArUco tutorial.
 #include <string>
 #include <string_view>

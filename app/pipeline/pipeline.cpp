@@ -426,14 +426,15 @@ nlohmann::json Pipeline::status() const {
   {
     std::lock_guard lock(state_mutex_);
     j["occlusion"] = occlusion_name_;
-    j["tracking"] = tracking_.is_null()
-                        ? nlohmann::json{{"state", "off"},
-                                         {"method", config_.tracking.method},
-                                         {"pose", nullptr},
-                                         {"keyframes", 0},
-                                         {"lost_count", 0},
-                                         {"anchor", {{"kind", config_.world.anchor}, {"found", false}}}}
-                        : tracking_;
+    j["tracking"] =
+        tracking_.is_null()
+            ? nlohmann::json{{"state", "off"},
+                             {"method", config_.tracking.method},
+                             {"pose", nullptr},
+                             {"keyframes", 0},
+                             {"lost_count", 0},
+                             {"anchor", {{"kind", config_.world.anchor}, {"found", false}}}}
+            : tracking_;
     j["device"] = device_name_;
     if (fatal_) j["error"] = *fatal_;
   }

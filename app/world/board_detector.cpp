@@ -69,10 +69,9 @@ BoardDetector::BoardDetector(const BoardSpec& board, const BoardCamera& camera)
   m.dictionary = cv::aruco::getPredefinedDictionary(dictionary);
   m.params = cv::aruco::DetectorParameters::create();
   if (board.kind == BoardSpec::Kind::Charuco) {
-    m.board = cv::aruco::CharucoBoard::create(board.cols, board.rows,
-                                              static_cast<float>(board.square_mm / 1000.0),
-                                              static_cast<float>(board.marker_mm / 1000.0),
-                                              m.dictionary);
+    m.board = cv::aruco::CharucoBoard::create(
+        board.cols, board.rows, static_cast<float>(board.square_mm / 1000.0),
+        static_cast<float>(board.marker_mm / 1000.0), m.dictionary);
   } else {
     // A lone marker's four corners are all its pose has: refine them to sub-pixel (the
     // ChArUco path refines its chessboard corners instead).
@@ -97,7 +96,8 @@ BoardDetection BoardDetector::detect(const ImageRGB8& image) const {
                                 "x" + std::to_string(image.height()) + ", the camera " +
                                 std::to_string(m.camera.width) + "x" +
                                 std::to_string(m.camera.height));
-  const cv::Mat rgb(image.height(), image.width(), CV_8UC3, const_cast<std::uint8_t*>(image.data()));
+  const cv::Mat rgb(image.height(), image.width(), CV_8UC3,
+                    const_cast<std::uint8_t*>(image.data()));
   cv::Mat gray;
   cv::cvtColor(rgb, gray, cv::COLOR_RGB2GRAY);
 
@@ -139,7 +139,8 @@ BoardDetection BoardDetector::detect(const ImageRGB8& image) const {
   d.found = true;
   d.T_camera_board = pose_of(rvec, tvec);
   std::vector<cv::Point3f> model;
-  for (int id : corner_ids) model.push_back(m.board->chessboardCorners[static_cast<std::size_t>(id)]);
+  for (int id : corner_ids)
+    model.push_back(m.board->chessboardCorners[static_cast<std::size_t>(id)]);
   reprojection(model, corners, rvec, tvec, m.K, m.dist, d);
   return d;
 }

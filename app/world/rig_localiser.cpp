@@ -32,8 +32,7 @@ RigLocaliser::RigLocaliser(const TrackingConfig& tracking, const WorldConfig& wo
     tracking::DenseTrackerParams params;
     params.min_depth_m = static_cast<float>(tracking.min_depth_m);
     params.max_depth_m = static_cast<float>(tracking.max_depth_m);
-    tracker_ =
-        std::make_unique<tracking::DenseTracker>(ctx, calibration.rgb.intrinsics(), params);
+    tracker_ = std::make_unique<tracking::DenseTracker>(ctx, calibration.rgb.intrinsics(), params);
   } else if (tracking.method != "truth" && tracking.method != "off") {
     throw std::invalid_argument("tracking method '" + tracking.method +
                                 "' is not one of dense, truth, off");
@@ -75,8 +74,7 @@ std::optional<Pose> RigLocaliser::locate(const RgbdFrame& frame) {
   status_.anchor_found = anchor_.found();
   status_.T_world_rig.reset();
   if (T_tracker_camera && T_world_tracker)
-    status_.T_world_rig =
-        *T_world_tracker * *T_tracker_camera * calibration_.T_rig_rgb.inverse();
+    status_.T_world_rig = *T_world_tracker * *T_tracker_camera * calibration_.T_rig_rgb.inverse();
   if (was_known && !T_tracker_camera) {
     ++status_.lost_count;
     spdlog::warn("tracking lost at frame {}: virtual objects hidden until it returns",

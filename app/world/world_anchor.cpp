@@ -29,7 +29,8 @@ BoardCamera board_camera(const RigCalibration& c) {
 double world_step_m(const Pose& a, const Pose& b, double reach_m) {
   // Where the world's origin is in the tracker's (real) world, before and after.
   const Pose ia = a.inverse(), ib = b.inverse();
-  return (ia.translation - ib.translation).norm() + ia.rotation.angularDistance(ib.rotation) * reach_m;
+  return (ia.translation - ib.translation).norm() +
+         ia.rotation.angularDistance(ib.rotation) * reach_m;
 }
 
 WorldAnchor::WorldAnchor(const WorldConfig& config, const RigCalibration& calibration)
