@@ -83,10 +83,14 @@ BoardDetector::BoardDetector(const BoardSpec& board, const BoardCamera& camera)
 
 BoardDetector::~BoardDetector() = default;
 
-Eigen::Vector3d BoardDetector::centre() const {
+Pose BoardDetector::T_board_world() const {
   const BoardSpec& b = impl_->spec;
-  if (b.kind == BoardSpec::Kind::Aruco) return Eigen::Vector3d::Zero();
-  return Eigen::Vector3d(b.cols * b.square_mm, b.rows * b.square_mm, 0) / 2000.0;
+  if (b.kind == BoardSpec::Kind::Aruco) return Pose::identity();  // x right, y up, z out
+  // OpenCV 4.6's ChArUco frame has y down the printed board, so z into it: turned about x.
+  Pose p;
+  p.translation = Eigen::Vector3d(b.cols * b.square_mm, b.rows * b.square_mm, 0) / 2000.0;
+  p.rotation = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX());
+  return p;
 }
 
 BoardDetection BoardDetector::detect(const ImageRGB8& image) const {

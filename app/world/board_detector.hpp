@@ -43,9 +43,10 @@ class BoardDetector {
 
   // Throws std::invalid_argument when the image is not the camera's size.
   BoardDetection detect(const ImageRGB8& image) const;
-  // The middle of the board (of the marker: its centre, zero) in its target frame, metres:
-  // where the anchored world's origin is.
-  Eigen::Vector3d centre() const;
+  // The world the target anchors, in its target frame: origin at the middle of the board (of
+  // the marker: its centre), z out of the printed face, x along its columns (docs/tracking.md
+  // "World anchoring").
+  Pose T_board_world() const;
 
  private:
   struct Impl;

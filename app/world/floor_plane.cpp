@@ -67,6 +67,9 @@ std::optional<FloorPlane> find_floor(const DepthImage& depth_mm, const PinholeIn
   const auto acceptable = [&](const Plane& p) {
     return p.n.dot(up) >= min_cos && p.d >= params.min_camera_height_m;
   };
+  const auto inlier = [&](const Plane& p, const Eigen::Vector3d& q) {
+    return std::abs(p.n.dot(q) + p.d) < params.inlier_m;
+  };
   std::mt19937_64 rng(params.seed);
   std::uniform_int_distribution<std::size_t> pick(0, pts.size() - 1);
   std::optional<Plane> best;
@@ -75,7 +78,7 @@ std::optional<FloorPlane> find_floor(const DepthImage& depth_mm, const PinholeIn
     const auto p = plane_through(pts[pick(rng)], pts[pick(rng)], pts[pick(rng)]);
     if (!p || !acceptable(*p)) continue;
     int count = 0;
-    for (const auto& q : pts) count += std::abs(p->n.dot(q) + p->d) < params.inlier_m;
+    for (const auto& q : pts) count += inlier(*p, q);
     if (count > best_count) {
       best_count = count;
       best = p;
@@ -89,7 +92,7 @@ std::optional<FloorPlane> find_floor(const DepthImage& depth_mm, const PinholeIn
   for (int round = 0; round < 2; ++round) {
     inliers.clear();
     for (const auto& q : pts)
-      if (std::abs(plane.n.dot(q) + plane.d) < params.inlier_m) inliers.push_back(q);
+      if (inlier(plane, q)) inliers.push_back(q);
     if (static_cast<int>(inliers.size()) < params.min_inliers) return std::nullopt;
     plane = fit(inliers, plane);
   }

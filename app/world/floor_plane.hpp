@@ -16,8 +16,11 @@ namespace probeless::world {
 struct FloorParams {
   // How far the plane's normal may be from the camera's up (-y, OpenCV camera frame).
   double max_tilt_deg = 45.0;
-  // Inliers within this distance of the plane: 3 sigma of Kinect-class depth noise at ~1.5 m
-  // (Khoshelham & Elberink 2012: sigma ~ 1.4 mm x z^2, z in m), the table's typical range.
+  // Inliers within this distance of the plane. Kinect-class depth errs along the ray (sigma
+  // ~1.4 mm z^2, Khoshelham & Elberink 2012; disparity steps ~3 mm z^2), so across a plane
+  // seen obliquely the spread is a few mm at table range. Measured on the sim's tabletop view
+  // (the table top at 0.7-1.5 m): 0.5 cm 0.02-0.15 degrees, 1 cm 0.14-0.20, 2 cm 0.04-0.06;
+  // a band that grows as z^2 (0.5 cm z^2 added) took in clutter: 0.35-1.1 degrees.
   double inlier_m = 0.01;
   double min_depth_m = 0.3, max_depth_m = 4.0;
   double min_camera_height_m = 0.1;  // the camera is at least this far above the plane

@@ -62,9 +62,7 @@ std::optional<Pose> WorldAnchor::measure(const RgbdFrame& frame, const Pose& T_t
   const BoardDetection d = detector_->detect(frame.colour);
   marker_in_view_ = d.found;
   if (!d.found) return std::nullopt;
-  Pose T_board_world;  // the world's origin at the board's centre, its axes the board's
-  T_board_world.translation = detector_->centre();
-  return (d.T_camera_board * T_board_world).inverse() * T_camera_tracker;
+  return (d.T_camera_board * detector_->T_board_world()).inverse() * T_camera_tracker;
 }
 
 void WorldAnchor::blend(const Pose& measured) {
