@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <iostream>
 #include <vector>
 
@@ -123,7 +124,9 @@ TEST(TumDrift, DenseTrackingKeepsTheObjectOnItsSpot) {
   PROBELESS_REQUIRE_DATA(kSequence);
   {
     // Until the Kerl et al. tracker lands, kernels/tracking/dense_tracker.cpp is a scaffold
-    // that reports its first pose for every frame; this bound is for the tracker.
+    // that reports its first pose for every frame; this bound is for the tracker
+    // (PROBELESS_DRIFT_ANYWAY=1 measures the scaffold anyway: p95 242 px, the object pinned
+    // to the camera).
     Rig rig = open_rig("tum:" + (testing::shared_data_dir() / kSequence).string() + "?realtime=0");
     tracking::DenseTracker tracker(nullptr, rig.calibration.rgb.intrinsics());
     RgbdFrame f;
@@ -134,8 +137,9 @@ TEST(TumDrift, DenseTrackingKeepsTheObjectOnItsSpot) {
     if (poses.size() > 1 && std::all_of(poses.begin(), poses.end(), [&](const Pose& p) {
           return p.matrix() == poses.front().matrix();
         }))
-      GTEST_SKIP() << "the dense tracker returns one pose for every frame (the scaffold); "
-                      "TumDrift.DenseTracking... measures the real tracker";
+      if (!std::getenv("PROBELESS_DRIFT_ANYWAY"))
+        GTEST_SKIP() << "the dense tracker returns one pose for every frame (the scaffold); "
+                        "TumDrift.DenseTracking... measures the real tracker";
   }
   Drift d = drift_over_run(
       "tum:" + (testing::shared_data_dir() / kSequence).string() + "?realtime=0", "dense");
