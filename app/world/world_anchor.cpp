@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "app/world/board_detector.hpp"
+#include "app/world/marker_worker.hpp"
 
 namespace probeless::world {
 namespace {
@@ -37,8 +38,8 @@ WorldAnchor::WorldAnchor(const WorldConfig& config, const RigCalibration& calibr
     : config_(config), calibration_(calibration) {
   floor_.max_tilt_deg = config.floor_max_tilt_deg;
   if (config.anchor == "marker")
-    detector_ =
-        std::make_unique<BoardDetector>(parse_board_spec(config.marker), board_camera(calibration));
+    marker_ = std::make_unique<MarkerWorker>(std::make_unique<BoardDetector>(
+        parse_board_spec(config.marker), board_camera(calibration)));
   else if (config.anchor != "floor" && config.anchor != "rig")
     throw std::invalid_argument("world anchor '" + config.anchor +
                                 "' is not one of marker, floor, rig");
@@ -59,10 +60,18 @@ std::optional<Pose> WorldAnchor::measure(const RgbdFrame& frame, const Pose& T_t
     if (!floor) return std::nullopt;
     return floor->T_camera_floor.inverse() * T_camera_tracker;
   }
-  const BoardDetection d = detector_->detect(frame.colour);
-  marker_in_view_ = d.found;
-  if (!d.found) return std::nullopt;
-  return (d.T_camera_board * detector_->T_board_world()).inverse() * T_camera_tracker;
+  // The marker: this frame goes to the detector if it is free; what comes back is a sighting
+  // of an earlier frame, already related to the tracker's world through that frame's pose.
+  marker_->offer(frame.colour, T_tracker_camera);
+  const auto sighting = marker_->take();
+  if (!sighting) return std::nullopt;
+  marker_in_view_ = sighting->found;
+  if (!sighting->found) return std::nullopt;
+  return sighting->T_world_tracker;
+}
+
+void WorldAnchor::wait_for_detection() {
+  if (marker_) marker_->wait_idle();
 }
 
 void WorldAnchor::blend(const Pose& measured) {
@@ -79,7 +88,6 @@ void WorldAnchor::blend(const Pose& measured) {
 
 std::optional<Pose> WorldAnchor::update(const RgbdFrame& frame,
                                         const std::optional<Pose>& T_tracker_camera) {
-  marker_in_view_ = false;
   if (!T_tracker_camera) return T_world_tracker_;  // nothing relates this frame to the world
   // `rig` and `floor` are fixed at start-up; a marker is followed whenever it is seen.
   if (T_world_tracker_ && config_.anchor != "marker") return T_world_tracker_;

@@ -16,7 +16,7 @@
 
 namespace probeless::world {
 
-class BoardDetector;
+class MarkerWorker;
 
 class WorldAnchor {
  public:
@@ -32,8 +32,11 @@ class WorldAnchor {
 
   const std::string& kind() const { return config_.anchor; }
   bool found() const { return T_world_tracker_.has_value(); }
-  // The marker was seen in the last frame (marker anchoring only).
+  // The marker was seen in the last detection that finished (marker anchoring only).
   bool marker_in_view() const { return marker_in_view_; }
+  // Marker anchoring detects on its own thread (marker_worker.hpp); a test that wants each
+  // frame's sighting applied to that frame waits for it here.
+  void wait_for_detection();
 
  private:
   std::optional<Pose> measure(const RgbdFrame& frame, const Pose& T_tracker_camera);
@@ -42,7 +45,7 @@ class WorldAnchor {
   WorldConfig config_;
   RigCalibration calibration_;
   FloorParams floor_;
-  std::unique_ptr<BoardDetector> detector_;
+  std::unique_ptr<MarkerWorker> marker_;
   std::optional<Pose> T_world_tracker_;
   bool marker_in_view_ = false;
 };

@@ -62,7 +62,9 @@ TEST(AnchorSim, TheBoardAnchorsTheWorldWithin5mmAndHalfADegree) {
             sim::board_world_pose(), 30);
     std::cout << "marker anchor, start " << start << " s: " << e.located << "/" << e.frames
               << " frames, max " << e.max_mm << " mm, " << e.max_deg << " deg\n";
-    EXPECT_EQ(e.located, e.frames) << "the board is in view all along";
+    // Detection runs on its own thread: the first frame or two go by before the first
+    // sighting is back (nothing is drawn meanwhile).
+    EXPECT_GE(e.located, e.frames - 3) << "the board is in view all along";
     EXPECT_LT(e.max_mm, 5.0);
     EXPECT_LT(e.max_deg, 0.5);
   }
@@ -79,7 +81,7 @@ TEST(AnchorSim, ReanchoringGlidesAtTheBoundedRate) {
   Pose slip;
   slip.translation = Eigen::Vector3d(0.03, 0, 0);
   std::optional<Pose> previous;
-  double max_step_mm = 0, detect_ms = 0;
+  double max_step_mm = 0, detect_ms = 0, update_ms = 0;
   RgbdFrame frame;
   constexpr int kFrames = 30;
   for (int i = 0; i < kFrames; ++i) {
@@ -89,9 +91,15 @@ TEST(AnchorSim, ReanchoringGlidesAtTheBoundedRate) {
     if (i > 0) T_tracker_camera = slip * T_tracker_camera;
     const auto t0 = std::chrono::steady_clock::now();
     const auto T_world_tracker = anchor.update(frame, T_tracker_camera);
+    const auto t1 = std::chrono::steady_clock::now();
+    anchor.wait_for_detection();  // each sighting applied on the next frame, deterministically
+    update_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
     detect_ms +=
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    ASSERT_TRUE(T_world_tracker);
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+    if (!T_world_tracker) {
+      ASSERT_EQ(i, 0) << "only the first frame goes by before the first sighting";
+      continue;
+    }
     if (previous)
       max_step_mm = std::max(max_step_mm, world_step_m(*previous, *T_world_tracker) * 1e3);
     previous = T_world_tracker;
@@ -100,7 +108,8 @@ TEST(AnchorSim, ReanchoringGlidesAtTheBoundedRate) {
   const Pose expected = (slip * sim::board_world_pose()).inverse();
   const double left_mm = world_step_m(*previous, expected) * 1e3;
   std::cout << "re-anchoring 30 mm: largest step " << max_step_mm << " mm/frame, " << left_mm
-            << " mm left after " << kFrames << " frames; marker detection " << detect_ms / kFrames
+            << " mm left after " << kFrames << " frames; on the processing thread "
+            << update_ms / kFrames << " ms/frame, the detector's wait " << detect_ms / kFrames
             << " ms/frame\n";
   EXPECT_LE(max_step_mm, world.max_step_mm + 0.05);
   EXPECT_GT(max_step_mm, 0.5 * world.max_step_mm) << "it does follow the board";
