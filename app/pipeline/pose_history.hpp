@@ -20,9 +20,12 @@ class PoseHistory {
   // `hold_ns`: how far past the newest known pose (or before the oldest) a request may be
   // and still get it: a rig moves ~1 cm in 50 ms at a walking pace, under what one keyframe
   // update smears. `max_gap_ns`: two samples further apart are not interpolated (the
-  // processing thread skipped that long: the motion between is not known).
+  // processing thread skipped that long: the motion between is not known). `capacity`: 34 s
+  // at 30 Hz (64 kB). A fisheye frame is seldom more than a few frames behind, but `bench
+  // pipeline` runs the sim's RGB-D clock ~4x ahead of the fisheye's wall clock, and a history
+  // that forgot the fisheye's time would pause the light load the bench is meant to carry.
   explicit PoseHistory(TimestampNs hold_ns = 50'000'000, TimestampNs max_gap_ns = 250'000'000,
-                       std::size_t capacity = 256);
+                       std::size_t capacity = 1024);
 
   // Samples arrive in increasing time; an older or equal one is ignored.
   void add(TimestampNs t, const Pose& T_world_rig);
