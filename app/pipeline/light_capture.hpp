@@ -2,10 +2,9 @@
 // The service's light stage (issue #5; docs/light-capture.md): its own thread takes every
 // fisheye frame of the bracket cycle and updates the HDR environment-map keyframes and their
 // SH through light::LightEstimator, on its own OpenCL queue so that it never waits for the
-// RGB-D frame path (nor that path for it). The rig pose at each fisheye frame comes from the
-// frame's ground truth when the source has it (the sim, a recording), else from the RGB-D
-// stream's poses interpolated to the fisheye timestamp, else the rig is taken as static at
-// the world origin (docs/configuration.md, "Where the rig pose comes from").
+// RGB-D frame path (nor that path for it). In the service the rig pose at each fisheye frame
+// is the processing thread's (tracked, anchored) poses interpolated to the fisheye timestamp,
+// and keyframe updates pause while it is unknown (docs/tracking.md "Poses in the service").
 #include <condition_variable>
 #include <deque>
 #include <map>

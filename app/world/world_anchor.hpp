@@ -50,8 +50,8 @@ class WorldAnchor {
   bool marker_in_view_ = false;
 };
 
-// The rig pose a measured world step moves the objects by: the world origin's displacement
-// plus the rotation's arc at `reach_m` from it (where objects stand), metres.
+// How far a change of T_world_tracker moves the objects: the world origin's displacement in
+// the tracker's (real) world plus the rotation's arc at `reach_m` from it, metres.
 double world_step_m(const Pose& T_world_tracker_a, const Pose& T_world_tracker_b,
                     double reach_m = 0.25);
 
