@@ -36,7 +36,12 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Headless mixed-reality appliance service"
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION video)
-# Libraries by dpkg-shlibdeps; the run-time drivers that are loaded, not linked, by hand:
+# Libraries by dpkg-shlibdeps; among them, since world anchoring with a marker (issue #17),
+# libopencv-core406, -imgproc406, -calib3d406 and -contrib406 (the package of
+# libopencv_aruco). Debian's -contrib406 depends on much of OpenCV (highgui, dnn, Qt 5,
+# tesseract): the appliance's install grows by those packages though the binary loads only
+# six libopencv (tests/check_appliance_deps.sh; docs/appliance.md "OpenCV in the appliance").
+# The run-time drivers that are loaded, not linked, by hand:
 # an OpenCL ICD (PoCL on a desktop, the board's own where it has one) and Mesa's EGL/GL.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_APPLIANCE_PACKAGE_DEPENDS

@@ -27,11 +27,13 @@ trap cleanup EXIT
 cpack --config "$build/CPackConfig.cmake" -B "$scratch/deb" >/dev/null
 deb=$(ls "$scratch"/deb/probeless_*.deb)
 echo "package: $(basename "$deb") ($(du -h "$deb" | cut -f1))"
-# The appliance package needs no OpenCV; the lab's package carries it (issue #16).
+# The appliance package's OpenCV is what marker anchoring links (issue #17, docs/appliance.md
+# "OpenCV in the appliance"): core, imgproc, calib3d and aruco (in -contrib); the lab's package
+# carries the rest (issue #16).
 ls "$scratch"/deb/probeless-lab_*.deb >/dev/null || { echo "FAIL: no probeless-lab package"; exit 1; }
-if dpkg-deb -f "$deb" Depends | grep -i opencv; then
-  echo "FAIL: the appliance package depends on OpenCV"; exit 1
-fi
+opencv_deps=$(dpkg-deb -f "$deb" Depends | grep -o 'libopencv-[a-z0-9]*' | sort -u | tr '\n' ' ')
+[ "$opencv_deps" = "libopencv-calib3d406 libopencv-contrib406 libopencv-core406 libopencv-imgproc406 " ] ||
+  { echo "FAIL: the appliance package's OpenCV dependencies are [$opencv_deps]"; exit 1; }
 dpkg-deb -c "$deb" | grep -q probeless-lab && { echo "FAIL: the lab binary is in the appliance package"; exit 1; }
 
 if ! debootstrap --variant=minbase bookworm "$root" "$mirror" >"$scratch/debootstrap.log" 2>&1; then
@@ -59,9 +61,12 @@ for f in /usr/bin/probeless /usr/lib/systemd/system/probeless.service \
   /etc/probeless/probeless.toml; do
   [[ -e $root$f ]] || { echo "FAIL: $f not installed"; exit 1; }
 done
-if chroot "$root" ldd /usr/bin/probeless | grep -i opencv; then
-  echo "FAIL: the installed service links OpenCV"; exit 1
-fi
+for m in $(chroot "$root" ldd /usr/bin/probeless | grep -o 'libopencv_[a-z0-9_]*' | sort -u); do
+  case $m in libopencv_aruco|libopencv_calib3d|libopencv_core|libopencv_imgproc|\
+    libopencv_features2d|libopencv_flann) ;;
+    *) echo "FAIL: the installed service loads $m"; exit 1 ;;
+  esac
+done
 [[ -L $root/etc/systemd/system/multi-user.target.wants/probeless.service ]] ||
   { echo "FAIL: the service is not enabled"; exit 1; }
 

@@ -1,7 +1,9 @@
 #include "app/pipeline/frame_processor.hpp"
 
+#include <algorithm>
 #include <chrono>
 
+#include "app/outputs/banner.hpp"
 #include "app/pipeline/scene_objects.hpp"
 #include "kernels/occlusion/method_registry.hpp"
 
@@ -28,7 +30,8 @@ decltype(auto) timed(StageStats& stats, Stage& stage, Args&&... args) {
 }  // namespace
 
 FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration,
-                               bool keep_matte, LightSource light)
+                               bool keep_matte, LightSource light,
+                               std::shared_ptr<PoseHistory> poses)
     : calibration_(calibration),
       keep_matte_(keep_matte),
       ctx_(make_context(config)),
@@ -37,16 +40,55 @@ FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration
       upload_(*ctx_, calibration.rgb),
       occlusion_(*ctx_, occlusion::make_method(*ctx_, config.occlusion_method)),
       composite_(*ctx_),
-      download_(*ctx_, keep_matte) {}
+      download_(*ctx_, keep_matte),
+      localiser_(config.tracking, config.world, calibration, ctx_.get()),
+      poses_(std::move(poses)) {}
+
+// Never a virtual object at a pose that may be wrong (issue #17): the camera's picture, a
+// transparent matte, and a banner naming what is missing.
+CompositeFrame FrameProcessor::camera_only(const RgbdFrame& frame) const {
+  const world::LocaliserStatus& s = localiser_.status();
+  auto colour = std::make_shared<ImageRGB8>(frame.colour);
+  const std::string text = !s.anchor_found && s.state == tracking::TrackingState::Tracking
+                               ? "LOOKING FOR THE " + s.anchor
+                               : "TRACKING " + std::string(tracking::to_string(s.state));
+  const int scale = std::max(1, colour->height() / 240);
+  const int pad = 2 * scale;
+  const int w = std::min(colour->width(), text_width(text, scale) + 2 * pad);
+  const int h = std::min(colour->height(), text_height(scale) + 2 * pad);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) colour->at(x, y, c) = 0;
+  draw_text(*colour, pad, pad, text, scale, {255, 200, 0});
+
+  CompositeFrame out;
+  out.sequence = frame.sequence;
+  out.timestamp_ns = frame.timestamp_ns;
+  out.colour = std::move(colour);
+  if (keep_matte_) {
+    out.alpha = std::make_shared<const ImageF>(frame.colour.width(), frame.colour.height(), 0.0f);
+    out.virtual_depth = out.alpha;  // 0 mm: no object anywhere
+  }
+  out.truth = frame.truth;
+  return out;
+}
 
 CompositeFrame FrameProcessor::process(const RgbdFrame& frame, StageStats& stats) {
-  // The rig pose comes with the frame when the source knows it (the synthetic rig, a
-  // recording with a trajectory); camera tracking is not part of probeless yet, so a source
-  // without poses keeps the last one (identity at first): a static rig.
-  if (frame.truth && frame.truth->rig_pose) last_rig_pose_ = *frame.truth->rig_pose;
-  const Pose T_world_camera = last_rig_pose_ * calibration_.T_rig_rgb;
-
   const auto frame_start = std::chrono::steady_clock::now();
+  const std::optional<Pose> T_world_rig = localiser_.locate(frame);
+  stats.record("tracking", ms_since(frame_start));
+  if (poses_) {
+    if (T_world_rig)
+      poses_->add(frame.timestamp_ns, *T_world_rig);
+    else
+      poses_->mark_unknown(frame.timestamp_ns);
+  }
+  if (!T_world_rig) {
+    CompositeFrame out = camera_only(frame);
+    stats.record("frame", ms_since(frame_start));
+    return out;
+  }
+  const Pose T_world_camera = *T_world_rig * calibration_.T_rig_rgb;
   const VirtualLayer layer = timed(stats, render_, T_world_camera);
   const DeviceFrame device = timed(stats, upload_, frame, layer);
   const DeviceImageF& matte = timed(stats, occlusion_, device);

@@ -8,7 +8,9 @@
 
 #include "app/pipeline/frame_stages.hpp"
 #include "app/pipeline/pipeline.hpp"
+#include "app/pipeline/pose_history.hpp"
 #include "app/pipeline/service_config.hpp"
+#include "app/world/rig_localiser.hpp"
 #include "base/stage_stats.hpp"
 
 namespace probeless {
@@ -16,9 +18,12 @@ namespace probeless {
 class FrameProcessor {
  public:
   // `light`: the light capture's snapshots (LightCapture::latest_light), if it runs.
+  // `poses`: where each frame's rig pose (or its absence) goes for the light thread.
   FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration, bool keep_matte,
-                 LightSource light = {});
+                 LightSource light = {}, std::shared_ptr<PoseHistory> poses = {});
   CompositeFrame process(const RgbdFrame& frame, StageStats& stats);
+  // Where the rig is, as of the last frame (/status "tracking").
+  const world::LocaliserStatus& tracking() const { return localiser_.status(); }
 
   std::string occlusion_method() const { return occlusion_.method_name(); }
   std::string device_description() const { return ctx_->describe(); }
@@ -32,7 +37,11 @@ class FrameProcessor {
   OcclusionStage occlusion_;
   CompositeStage composite_;
   DownloadStage download_;
-  Pose last_rig_pose_;
+  world::RigLocaliser localiser_;
+  std::shared_ptr<PoseHistory> poses_;
+
+  // The camera image alone with a small banner: what is shown while the pose is unknown.
+  CompositeFrame camera_only(const RgbdFrame& frame) const;
 };
 
 }  // namespace probeless

@@ -79,8 +79,11 @@ struct LightCapture::Estimator {
 };
 
 LightCapture::LightCapture(const ServiceConfig& config, const RigCalibration& calibration,
-                           const RigScene& scene)
-    : config_(config), calibration_(calibration), estimator_(std::make_unique<Estimator>()) {
+                           const RigScene& scene, std::shared_ptr<const PoseHistory> poses)
+    : config_(config),
+      calibration_(calibration),
+      estimator_(std::make_unique<Estimator>()),
+      service_poses_(std::move(poses)) {
   if (!calibration_.fisheye)
     throw std::invalid_argument("light capture: the rig calibration has no fisheye model");
   room_ = room_of(config_, scene);
@@ -127,6 +130,9 @@ void LightCapture::offer_rgbd(const RgbdFrame& frame) {
 
 std::optional<Pose> LightCapture::rig_pose_at(
     TimestampNs t, const std::shared_ptr<const FrameTruth>& truth) const {
+  // The service's poses are in the anchored world, which the source's truth need not be.
+  // The wait: the processing thread runs a frame or two behind the fisheye.
+  if (service_poses_) return service_poses_->wait_at(t, std::chrono::milliseconds(100));
   if (truth && truth->rig_pose) return truth->rig_pose;
   std::lock_guard lock(mutex_);
   for (std::size_t i = 1; i < poses_.size(); ++i) {
@@ -200,6 +206,12 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
     if (state_ != "running") return false;
   }
   const std::optional<Pose> pose = rig_pose_at(frame.timestamp_ns, frame.truth);
+  if (!pose && service_poses_) {
+    // Tracking lost or not started: a keyframe built at a guessed pose would smear.
+    std::lock_guard lock(mutex_);
+    ++paused_;
+    return true;
+  }
   const auto t0 = std::chrono::steady_clock::now();
   try {
     const auto& keyframe = estimator_->light->process(frame, pose.value_or(Pose::identity()));
@@ -337,6 +349,7 @@ nlohmann::json LightCapture::status() const {
                       {"frames", processed_},
                       {"dropped", dropped_},
                       {"frames_without_pose", without_pose_},
+                      {"frames_paused_without_pose", paused_},
                       {"keyframes", keyframes_},
                       {"active_keyframe", active_keyframe_},
                       {"room", room_ ? (config_.light_room == "box" ? "box" : "sim") : "off"}};

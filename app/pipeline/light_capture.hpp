@@ -2,10 +2,9 @@
 // The service's light stage (issue #5; docs/light-capture.md): its own thread takes every
 // fisheye frame of the bracket cycle and updates the HDR environment-map keyframes and their
 // SH through light::LightEstimator, on its own OpenCL queue so that it never waits for the
-// RGB-D frame path (nor that path for it). The rig pose at each fisheye frame comes from the
-// frame's ground truth when the source has it (the sim, a recording), else from the RGB-D
-// stream's poses interpolated to the fisheye timestamp, else the rig is taken as static at
-// the world origin (docs/configuration.md, "Where the rig pose comes from").
+// RGB-D frame path (nor that path for it). In the service the rig pose at each fisheye frame
+// is the processing thread's (tracked, anchored) poses interpolated to the fisheye timestamp,
+// and keyframe updates pause while it is unknown (docs/tracking.md "Poses in the service").
 #include <condition_variable>
 #include <deque>
 #include <map>
@@ -16,6 +15,7 @@
 #include <stop_token>
 #include <string>
 
+#include "app/pipeline/pose_history.hpp"
 #include "app/pipeline/service_config.hpp"
 #include "base/stage_stats.hpp"
 #include "core/calibration.hpp"
@@ -56,8 +56,12 @@ class LightCapture {
   // implements (Kannala-Brandt), or [light] room = "sim" and the rig knows no room; the
   // pipeline then runs without light capture and says so. The objects without a position
   // and [light] room = "auto" | "sim" take the rig's scene.
+  // `poses`: the service's rig poses (the processing thread's, tracked and anchored); with
+  // them the fisheye's pose is theirs at its timestamp and a frame without one is skipped
+  // (keyframe updates pause while the pose is unknown). Without: the frames' truth, else
+  // add_rig_pose()'s poses, else the origin (`eval render` drives the stage that way).
   LightCapture(const ServiceConfig& config, const RigCalibration& calibration,
-               const RigScene& scene);
+               const RigScene& scene, std::shared_ptr<const PoseHistory> poses = {});
   ~LightCapture();
   LightCapture(const LightCapture&) = delete;
   LightCapture& operator=(const LightCapture&) = delete;
@@ -103,7 +107,8 @@ class LightCapture {
   std::condition_variable_any arrived_;
   std::deque<FisheyeFrame> queue_;
   std::deque<std::pair<TimestampNs, Pose>> poses_;  // the last few seconds of RGB-D poses
-  std::uint64_t processed_ = 0, dropped_ = 0, without_pose_ = 0;
+  std::shared_ptr<const PoseHistory> service_poses_;
+  std::uint64_t processed_ = 0, dropped_ = 0, without_pose_ = 0, paused_ = 0;
   int keyframes_ = 0, active_keyframe_ = -1;
   std::optional<ShRgb> sh_;
   std::shared_ptr<const LightSnapshot> snapshot_;

@@ -23,6 +23,12 @@ using namespace std::chrono_literals;
 Pipeline::Pipeline(ServiceConfig config, Rig rig, PipelineOptions options)
     : config_(std::move(config)), rig_(std::move(rig)), options_(options) {
   if (!rig_.rgbd) throw std::invalid_argument("pipeline: the rig has no RGB-D source");
+  if (config_.world.anchor != "rig") {
+    // The world is the marker's or the floor's (docs/tracking.md "World anchoring"): the
+    // objects stand at its origin by default, and the rig's room is in the rig's world.
+    rig_.scene.object_anchor = Eigen::Vector3d::Zero();
+    rig_.scene.room.reset();
+  }
   place_objects(config_.objects, rig_.scene);
   if (options_.lossless) stats_.keep_all(true);
 }
@@ -53,7 +59,7 @@ void Pipeline::start() {
   }
   if (rig_.fisheye && config_.light_enabled) {
     try {
-      light_ = std::make_unique<LightCapture>(config_, rig_.calibration, rig_.scene);
+      light_ = std::make_unique<LightCapture>(config_, rig_.calibration, rig_.scene, poses_);
     } catch (const std::invalid_argument& e) {
       spdlog::warn("light capture off: {}", e.what());
     }
@@ -162,11 +168,7 @@ void Pipeline::capture_rgbd(std::stop_token stop) {
     if (r == ReadResult::Frame) {
       stats_.record("capture_rgbd", ms_since(t0));
       ++rgbd_in_;
-      if (light_) {
-        if (frame.truth && frame.truth->rig_pose)
-          light_->add_rig_pose(frame.timestamp_ns, *frame.truth->rig_pose);
-        light_->offer_rgbd(frame);
-      }
+      if (light_) light_->offer_rgbd(frame);  // its poses come from processing (poses_)
       last_rgbd_ns_ = monotonic_now_ns();
       rgbd_slot_.publish(std::move(frame));
       continue;
@@ -245,7 +247,7 @@ void Pipeline::process(std::stop_token stop) {
     LightSource light;
     if (light_) light = [this] { return light_->latest_light(); };
     FrameProcessor processor(config_, rig_.calibration, options_.keep_matte || needs_.matte,
-                             std::move(light));
+                             std::move(light), poses_);
     {
       std::lock_guard lock(state_mutex_);
       occlusion_name_ = processor.occlusion_method();
@@ -294,6 +296,11 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
 
     const RgbdFrame& frame = item->value;
     CompositeFrame out = processor.process(frame, stats_);
+    {
+      nlohmann::json tracking = processor.tracking().to_json();
+      std::lock_guard lock(state_mutex_);
+      tracking_ = std::move(tracking);
+    }
     last_good_ = out;
     output_.publish(std::move(out));
     fps_.tick(monotonic_now_ns());
@@ -419,6 +426,15 @@ nlohmann::json Pipeline::status() const {
   {
     std::lock_guard lock(state_mutex_);
     j["occlusion"] = occlusion_name_;
+    j["tracking"] =
+        tracking_.is_null()
+            ? nlohmann::json{{"state", "off"},
+                             {"method", config_.tracking.method},
+                             {"pose", nullptr},
+                             {"keyframes", 0},
+                             {"lost_count", 0},
+                             {"anchor", {{"kind", config_.world.anchor}, {"found", false}}}}
+            : tracking_;
     j["device"] = device_name_;
     if (fatal_) j["error"] = *fatal_;
   }

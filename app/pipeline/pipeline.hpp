@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "app/outputs/output.hpp"
+#include "app/pipeline/pose_history.hpp"
 #include "app/pipeline/service_config.hpp"
 #include "app/service/systemd_notifier.hpp"
 #include "base/latest_frame.hpp"
@@ -145,6 +146,9 @@ class Pipeline {
   std::condition_variable state_changed_;
   std::optional<std::string> fatal_;
   std::string occlusion_name_, device_name_;  // set once the processing thread is up
+  nlohmann::json tracking_;  // /status "tracking", from the processing thread after each frame
+  // The processing thread's rig poses for the light thread (docs/tracking.md).
+  std::shared_ptr<PoseHistory> poses_ = std::make_shared<PoseHistory>();
   std::atomic<bool> finished_{false};
   bool first_out_ = false;
   bool stopped_ = false;

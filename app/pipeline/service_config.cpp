@@ -10,6 +10,7 @@
 
 #include "app/outputs/display/display_mode.hpp"
 #include "app/pipeline/board_file.hpp"
+#include "core/board_spec.hpp"
 #include "core/error.hpp"
 #include "core/toml_reader.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
@@ -106,7 +107,7 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   ServiceConfig c;
   r.only(root, "the top level",
          {"source", "object", "ground", "occlusion", "http", "output", "opencl", "pipeline",
-          "bracket", "light", "display", "rtsp", "board", "about"});
+          "bracket", "light", "display", "rtsp", "board", "about", "tracking", "world"});
   r.get(root, "board", c.board);
   if (auto* t = r.optional_table(root, "about")) {
     r.only(*t, "[about]", {"name", "summary"});
@@ -127,6 +128,44 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   if (auto* t = r.optional_table(root, "occlusion")) {
     r.only(*t, "[occlusion]", {"method"});
     r.get(*t, "method", c.occlusion_method);
+  }
+  if (auto* t = r.optional_table(root, "tracking")) {
+    r.only(*t, "[tracking]", {"method", "min_depth_m", "max_depth_m"});
+    r.get(*t, "method", c.tracking.method);
+    r.get(*t, "min_depth_m", c.tracking.min_depth_m);
+    r.get(*t, "max_depth_m", c.tracking.max_depth_m);
+    static const std::set<std::string> methods{"dense", "truth", "off"};
+    if (!methods.contains(c.tracking.method))
+      r.fail(t->get("method"),
+             "method '" + c.tracking.method + "' is not one of \"dense\", \"truth\", \"off\"");
+    if (!(c.tracking.min_depth_m > 0 && c.tracking.min_depth_m < c.tracking.max_depth_m &&
+          c.tracking.max_depth_m <= 20))
+      r.fail(t->get("max_depth_m") ? t->get("max_depth_m") : t->get("min_depth_m"),
+             "depth range must satisfy 0 < min_depth_m < max_depth_m <= 20");
+  }
+  if (auto* t = r.optional_table(root, "world")) {
+    r.only(*t, "[world]", {"anchor", "marker", "max_step_mm", "floor_max_tilt_deg"});
+    r.get(*t, "anchor", c.world.anchor);
+    r.get(*t, "marker", c.world.marker);
+    r.get(*t, "max_step_mm", c.world.max_step_mm);
+    r.get(*t, "floor_max_tilt_deg", c.world.floor_max_tilt_deg);
+    static const std::set<std::string> anchors{"marker", "floor", "rig"};
+    if (!anchors.contains(c.world.anchor))
+      r.fail(t->get("anchor"),
+             "anchor '" + c.world.anchor + "' is not one of \"marker\", \"floor\", \"rig\"");
+    try {
+      parse_board_spec(c.world.marker);
+    } catch (const std::invalid_argument& e) {
+      r.fail(t->get("marker"), e.what());
+    }
+    if (parse_board_spec(c.world.marker).kind == BoardSpec::Kind::Chessboard)
+      r.fail(t->get("marker"),
+             "a chessboard cannot anchor the world (its pose is ambiguous under rotation by "
+             "180 degrees): use a ChArUco board or an ArUco marker");
+    if (!(c.world.max_step_mm > 0 && c.world.max_step_mm <= 1000))
+      r.fail(t->get("max_step_mm"), "max_step_mm must be in (0, 1000]");
+    if (!(c.world.floor_max_tilt_deg > 0 && c.world.floor_max_tilt_deg < 90))
+      r.fail(t->get("floor_max_tilt_deg"), "floor_max_tilt_deg must be in (0, 90)");
   }
   if (auto* t = r.optional_table(root, "http")) {
     r.only(*t, "[http]",

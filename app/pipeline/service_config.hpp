@@ -13,6 +13,7 @@
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/kms_display.hpp"
 #include "app/outputs/rtsp_server.hpp"
+#include "app/world/world_config.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 
 namespace probeless {
@@ -64,6 +65,8 @@ struct ServiceConfig {
   // CPU-ms a 640x480 frame on PoCL (docs/occlusion.md "CVF as shipped", "Speed");
   // kernels/occlusion/method_registry.hpp lists the others.
   std::string occlusion_method = "cvf";
+  TrackingConfig tracking;
+  WorldConfig world;
 
   // The outputs (app/outputs/output.hpp), each section its component's own config.
   HttpServerConfig http;  // [http]: the MJPEG stream, the viewer and /status

@@ -64,13 +64,13 @@ Pose fisheye_in_rig() {
 
 // Rigs opened with the same seed share one world (building one bakes its lighting, a few
 // hundred milliseconds); it lives as long as a source uses it.
-std::shared_ptr<const SimWorld> shared_world(std::uint64_t seed) {
+std::shared_ptr<const SimWorld> shared_world(std::uint64_t seed, bool board) {
   static std::mutex mutex;
-  static std::map<std::uint64_t, std::weak_ptr<const SimWorld>> worlds;
+  static std::map<std::pair<std::uint64_t, bool>, std::weak_ptr<const SimWorld>> worlds;
   std::lock_guard lock(mutex);
-  if (auto world = worlds[seed].lock()) return world;
-  auto world = std::make_shared<const SimWorld>(seed);
-  worlds[seed] = world;
+  if (auto world = worlds[{seed, board}].lock()) return world;
+  auto world = std::make_shared<const SimWorld>(seed, board);
+  worlds[{seed, board}] = world;
   return world;
 }
 
@@ -97,8 +97,12 @@ SimOptions parse_sim_options(std::string_view spec) {
         o.trajectory = TrajectoryKind::Orbit;
       else if (value == "handheld")
         o.trajectory = TrajectoryKind::Handheld;
+      else if (value == "tabletop")
+        o.trajectory = TrajectoryKind::Tabletop;
       else
-        bad(key, value, "static, orbit or handheld");
+        bad(key, value, "static, orbit, handheld or tabletop");
+    } else if (key == "board") {
+      o.board = parse_bool(key, value);
     } else if (key == "fps" || key == "rgbd_fps") {
       o.rgbd_fps = parse_positive(key, value, 1000);
     } else if (key == "fisheye_fps") {
@@ -149,7 +153,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "frames, "
           "prerender, stall, "
           "truth, "
-          "threads, start)");
+          "threads, start, board)");
     }
   }
   return o;
@@ -242,7 +246,7 @@ Rig make_sim_rig(const SimOptions& options) {
                              k.cy,
                              k.width,
                              k.height};
-  auto world = shared_world(options.seed);
+  auto world = shared_world(options.seed, options.board);
   const TimestampNs start = monotonic_now_ns();
   auto rgbd = std::make_unique<SimRgbdSource>(world, options, geometry, start);
   auto fish = std::make_unique<SimFisheyeSource>(world, options, geometry, fisheye, start);

@@ -13,7 +13,9 @@
 
 namespace probeless::sim {
 
-enum class TrajectoryKind { Static, Orbit, Handheld };
+// Tabletop: standing at the table, looking down onto it (38 degrees), swinging around the
+// anchor; the view in which the board (`board=1`) anchors the world.
+enum class TrajectoryKind { Static, Orbit, Handheld, Tabletop };
 
 struct SimOptions {
   std::uint64_t seed = 1;
@@ -47,6 +49,10 @@ struct SimOptions {
   std::int64_t stall_begin = -1, stall_end = -1;
   bool ground_truth = true;  // attach FrameTruth
   int render_threads = 2;    // per source; rendering is split across rows
+  // A ChArUco board (board_spec()) lying on the table at board_world_pose(): ground truth for
+  // world anchoring with a marker. Off by default: every other measurement on the sim (light,
+  // render, occlusion) was taken on the table without it.
+  bool board = false;
   // The scripted world's time at the first frame (orbit angle, lamp switches, the arm):
   // `eval render` starts shortly before a lamp switch instead of rendering 6 s to reach one.
   double start_s = 0;
@@ -60,7 +66,7 @@ struct SimOptions {
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
 // "sim:"); throws std::invalid_argument naming the bad key. Keys: seed, trajectory
-// (static|orbit|handheld), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_realtime,
+// (static|orbit|handheld|tabletop), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_realtime,
 // fisheye_size,
 // fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file), fisheye_ocam_model (ocam or
 // kannala_brandt: that lens fitted), frames (max_frames), stall
@@ -76,6 +82,11 @@ Rig make_sim_rig(const SimOptions& options);
 // the table plane height.
 Eigen::Vector3d object_anchor();
 double table_top_height_m();
+// The board of `board=1`, as `[world] marker` names it, and the world it anchors in the sim's
+// world: origin at the centre of its face, x along its columns (world +x), y along world +y,
+// z up (docs/tracking.md "World anchoring").
+const char* board_spec();
+Pose board_world_pose();
 // Where FrameTruth::light is seen from: 10 cm above the anchor, the centre of a small object.
 Eigen::Vector3d light_probe_position();
 // The room's floor, walls and ceiling as an axis-aligned box in the world frame (metres):

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "drivers/sim/sim_board.hpp"
 #include "drivers/sim/sim_random.hpp"
 
 namespace probeless::sim {
@@ -246,6 +247,11 @@ void SimWorld::build_geometry(WorldBuilder& b) {
   };
   boxes_.push_back(b.add_box({-0.6f, ay + 0.1f, top}, {-0.4f, ay + 0.28f, top + 0.18f},
                              kAllFaces & ~face_bit(2, 0), 0.005f, 0.03f, red_box));
+
+  if (board_) {  // the ChArUco card, 1 mm texels: 10 per marker cell
+    const BoardCard card = board_card();
+    boxes_.push_back(b.add_box(card.lo, card.hi, face_bit(2, 1), 0.001f, 0.025f, board_albedo));
+  }
 
   // A black television on the back wall: too dark for structured light.
   const AlbedoFn black = [](const Vec3&) -> Vec3 { return {0.015f, 0.015f, 0.018f}; };

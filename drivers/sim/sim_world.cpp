@@ -21,10 +21,15 @@ constexpr double kOrbitPeriod = 60.0;  // seconds per revolution ("slow orbit")
 constexpr double kLampPeriod = 12.0;
 // The arm reaches in every kArmPeriod seconds and is in view for about half of it.
 constexpr double kArmPeriod = 5.0;
+// The tabletop view: a person standing at the table, the rig 0.7 m above the top and 0.9 m
+// from the anchor, pitched down onto it (38 degrees), swinging +-20 degrees around it every
+// 20 s: the board fills a third of the picture at ~1.1 m.
+constexpr double kTabletopHeight = 1.45, kTabletopRadius = 0.9;
+constexpr double kTabletopSwingDeg = 20.0, kTabletopPeriod = 20.0;
 
 }  // namespace
 
-SimWorld::SimWorld(std::uint64_t seed) : seed_(seed) {
+SimWorld::SimWorld(std::uint64_t seed, bool board) : seed_(seed), board_(board) {
   for (int i = 0; i < static_cast<int>(shake_phase_.size()); ++i)
     shake_phase_[i] = 2.0 * std::numbers::pi * uniform01(hash_combine(seed, 900 + i));
   WorldBuilder builder(seed, patches_);
@@ -41,6 +46,20 @@ int SimWorld::lamp_state(double t) {
 Pose SimWorld::rig_pose(TrajectoryKind kind, double t) const {
   double theta = 0;
   if (kind == TrajectoryKind::Orbit) theta = 2 * std::numbers::pi * t / kOrbitPeriod;
+  if (kind == TrajectoryKind::Tabletop) {
+    theta = kTabletopSwingDeg * std::numbers::pi / 180 *
+            std::sin(2 * std::numbers::pi * t / kTabletopPeriod);
+    const Eigen::Vector3d forward(std::sin(theta), std::cos(theta), 0.0);
+    const Eigen::Vector3d right(std::cos(theta), -std::sin(theta), 0.0);
+    Eigen::Matrix3d r;
+    r << right, forward, Eigen::Vector3d::UnitZ();
+    const double pitch = std::atan2(kTabletopHeight - kAnchor.z(), kTabletopRadius);
+    Pose pose;
+    pose.translation =
+        Eigen::Vector3d(kAnchor.x(), kAnchor.y(), kTabletopHeight) - kTabletopRadius * forward;
+    pose.rotation = Eigen::Quaterniond(r) * Eigen::AngleAxisd(-pitch, Eigen::Vector3d::UnitX());
+    return pose;
+  }
   const Eigen::Vector3d forward(std::sin(theta), std::cos(theta), 0.0);
   const Eigen::Vector3d right(std::cos(theta), -std::sin(theta), 0.0);
   Pose pose;
@@ -106,6 +125,14 @@ Eigen::Vector3d object_anchor() {
 }
 double table_top_height_m() {
   return kTableTop;
+}
+const char* board_spec() {
+  return "charuco:5x4:80:60:4x4_50";  // sim_board.cpp draws it
+}
+Pose board_world_pose() {
+  Pose p;
+  p.translation = kAnchor + Eigen::Vector3d(0, 0, 0.001);  // on the 1 mm card
+  return p;
 }
 double fisheye_radiance_per_converted() {
   return 3839.0 / 600.0;

@@ -75,7 +75,8 @@ class SimWorld {
  public:
   static constexpr int kLampStates = 2;  // one scripted lamp: bit 0 = on
 
-  explicit SimWorld(std::uint64_t seed);
+  // `board`: the ChArUco card on the table (sim_board.hpp).
+  explicit SimWorld(std::uint64_t seed, bool board = false);
 
   std::uint64_t seed() const { return seed_; }
 
@@ -107,6 +108,7 @@ class SimWorld {
   void render_light_probes();
 
   std::uint64_t seed_;
+  bool board_ = false;
   Eigen::Vector3f room_lo_, room_hi_;
   std::array<int, 6> room_patch_{};
   std::vector<Patch> patches_;

@@ -102,8 +102,8 @@ void run_bench(const BenchArgs& args) {
   j["occlusion"] = args.occlusion;
   nlohmann::json stages = nlohmann::json::object();
   for (const char* name :
-       {"capture_rgbd", "capture_fisheye", "exposure_count", "light", "light_publish", "render",
-        "upload", "occlusion", "composite", "download", "frame", "encode"}) {
+       {"capture_rgbd", "capture_fisheye", "exposure_count", "light", "light_publish", "tracking",
+        "render", "upload", "occlusion", "composite", "download", "frame", "encode"}) {
     auto samples = pipeline.stats().all_samples(name);
     if (samples.empty()) continue;
     // light_publish runs at 4 Hz: a warm-up of frames would leave none of its samples.

@@ -9,15 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "app/world/board_detector.hpp"
 #include "core/board_spec.hpp"
 
 namespace probeless::eval {
 
-struct BoardCamera {
-  std::array<double, 9> K{};       // row-major 3x3
-  std::vector<double> distortion;  // OpenCV's order: k1 k2 p1 p2 [k3 ...]
-  int width = 0, height = 0;       // 0: not given by the file
-};
+// The service's detector (app/world/board_detector.hpp) runs the photo: what is measured here
+// is what world anchoring does.
+using world::BoardCamera;
 
 // An OpenCV FileStorage file with `camera_matrix` and `distortion_coefficients` (what
 // OpenCV's calibration samples write). Throws std::runtime_error naming the file and the key.

@@ -99,7 +99,18 @@ TEST(Service, ServesStreamSnapshotAndStatusThenStopsOnSigterm) {
   const auto light = get_status(port)["light"];
   EXPECT_EQ(light["state"], "running") << light.dump();
   EXPECT_GE(light["keyframes"].get<int>(), 1);
-  EXPECT_EQ(light["frames_without_pose"], 0) << "the sim's frames carry their rig pose";
+  EXPECT_EQ(light["frames_without_pose"], 0) << "the tracked poses cover the fisheye frames";
+  // Where the rig is (issue #17, docs/tracking.md "Status and failure"): tracked by default.
+  const auto tracking = get_status(port)["tracking"];
+  EXPECT_EQ(tracking["state"], "tracking") << tracking.dump();
+  EXPECT_EQ(tracking["method"], "dense");
+  EXPECT_EQ(tracking["pose"]["t"].size(), 3u) << tracking.dump();
+  EXPECT_EQ(tracking["pose"]["q"].size(), 4u);
+  EXPECT_GE(tracking["keyframes"].get<int>(), 1);
+  EXPECT_EQ(tracking["lost_count"], 0);
+  EXPECT_EQ(tracking["anchor"]["kind"], "rig");
+  EXPECT_EQ(tracking["anchor"]["found"], true);
+  EXPECT_TRUE(get_status(port)["stages"].contains("tracking"));
   for (int c = 0; c < 3; ++c) EXPECT_GT(light["mean_radiance"][c].get<double>(), 0.0);
   // Snapshots for the renderer, with the colour camera's exposure in the same units (#6).
   ASSERT_TRUE(wait_status(

@@ -28,6 +28,17 @@ TEST(BoardSpec, Chessboard) {
   EXPECT_DOUBLE_EQ(b.square_mm, 24.5);
 }
 
+TEST(BoardSpec, ASingleArucoMarker) {
+  const BoardSpec b = parse_board_spec("aruco:23:150:DICT_4X4_50");
+  EXPECT_EQ(b.kind, BoardSpec::Kind::Aruco);
+  EXPECT_EQ(b.marker_id, 23);
+  EXPECT_DOUBLE_EQ(b.marker_mm, 150);
+  EXPECT_EQ(b.dictionary, "4x4_50");
+  EXPECT_EQ(board_dictionary_size("4x4_50"), 50);
+  EXPECT_EQ(board_dictionary_size("apriltag_36h11"), 587);
+  EXPECT_EQ(board_dictionary_size("nope"), 0);
+}
+
 TEST(BoardSpec, DictionaryIndexIsOpenCvsEnumValue) {
   EXPECT_EQ(board_dictionary_index("4x4_50"), 0);    // cv::aruco::DICT_4X4_50
   EXPECT_EQ(board_dictionary_index("6x6_250"), 10);  // cv::aruco::DICT_6X6_250
@@ -47,6 +58,12 @@ TEST(BoardSpec, BadSpecsAreClearErrors) {
       {"5x7:40:20:6x6_999", "is not one of"},
       {"chessboard:9x6", "two fields"},
       {"chessboard:9x6:abc", "square side"},
+      {"aruco:3:100", "three fields"},
+      {"aruco:50:100:4x4_50", "0..49"},
+      {"aruco:-1:100:4x4_50", "marker id"},
+      {"aruco:x:100:4x4_50", "marker id"},
+      {"aruco:3:0:4x4_50", "marker side"},
+      {"aruco:3:100:9x9_50", "is not one of"},
   };
   for (const auto& [text, why] : cases) {
     try {
