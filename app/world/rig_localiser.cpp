@@ -32,7 +32,9 @@ RigLocaliser::RigLocaliser(const TrackingConfig& tracking, const WorldConfig& wo
     tracking::DenseTrackerParams params;
     params.min_depth_m = static_cast<float>(tracking.min_depth_m);
     params.max_depth_m = static_cast<float>(tracking.max_depth_m);
-    tracker_ = std::make_unique<tracking::DenseTracker>(ctx, calibration.rgb.intrinsics(), params);
+    // The camera with its distortion: the tracker undistorts its finest level (frames arrive
+    // raw; the upload stage undistorts only what the matte and composite see).
+    tracker_ = std::make_unique<tracking::DenseTracker>(ctx, calibration.rgb, params);
   } else if (tracking.method != "truth" && tracking.method != "off") {
     throw std::invalid_argument("tracking method '" + tracking.method +
                                 "' is not one of dense, truth, off");
