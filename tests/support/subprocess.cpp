@@ -80,4 +80,20 @@ std::optional<int> Subprocess::wait(std::chrono::milliseconds timeout) {
   return std::nullopt;
 }
 
+std::string probeless_binary() {
+  const char* b = std::getenv("PROBELESS_BINARY");
+  return b ? b : "probeless";
+}
+
+int run_to_end(const std::string& program, const std::vector<std::string>& args,
+               std::string* output, std::chrono::seconds timeout) {
+  std::vector<std::string> argv{program};
+  argv.insert(argv.end(), args.begin(), args.end());
+  Subprocess p(std::move(argv), {}, /*merge_stderr=*/true);
+  p.wait_for_line("\x01 no such line", timeout);  // reads all output, until EOF
+  const auto status = p.wait(timeout);
+  if (output) *output = p.output();
+  return status.value_or(-1);
+}
+
 }  // namespace probeless::testing

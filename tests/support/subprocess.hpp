@@ -38,4 +38,12 @@ class Subprocess {
   std::optional<int> status_;
 };
 
+// The probeless binary under test: $PROBELESS_BINARY (set at start-up by test_data.cpp).
+std::string probeless_binary();
+
+// Runs `program args` to its end, stdout and stderr together in `output`; returns the exit
+// status, or -1 if it did not end within `timeout`.
+int run_to_end(const std::string& program, const std::vector<std::string>& args,
+               std::string* output, std::chrono::seconds timeout);
+
 }  // namespace probeless::testing

@@ -23,22 +23,14 @@ namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
 std::string binary() {
-  const char* b = std::getenv("PROBELESS_BINARY");
-  return b ? b : "probeless";
+  return testing::probeless_binary();
 }
 
 // Runs `program` with `args`; returns the exit status (-1 on timeout). `output` gets stdout
 // and stderr.
 int run_program(const std::string& program, const std::vector<std::string>& args,
                 std::string* output = nullptr) {
-  std::string command = "exec '" + program + "'";
-  for (const auto& a : args) command += " '" + a + "'";
-  command += " 2>&1";
-  testing::Subprocess p({"/bin/sh", "-c", command});
-  p.wait_for_line("\x01 no such line", 300s);  // reads all output, until EOF
-  const auto status = p.wait(300s);
-  if (output) *output = p.output();
-  return status.value_or(-1);
+  return testing::run_to_end(program, args, output, 300s);
 }
 
 int run(const std::vector<std::string>& args, std::string* output = nullptr) {

@@ -19,22 +19,10 @@ namespace {
 
 using namespace std::chrono_literals;
 
-std::string binary() {
-  const char* b = std::getenv("PROBELESS_BINARY");
-  return b ? b : "probeless";
-}
-
 // Runs probeless with `args`; returns the exit status (-1 on timeout). `output` gets stdout
-// and stderr (through sh: the error messages go to stderr).
+// and stderr.
 int run(const std::vector<std::string>& args, std::string* output = nullptr) {
-  std::string command = "exec '" + binary() + "'";
-  for (const auto& a : args) command += " '" + a + "'";
-  command += " 2>&1";
-  testing::Subprocess p({"/bin/sh", "-c", command});
-  p.wait_for_line("\x01 no such line", 120s);  // reads all output, until EOF
-  const auto status = p.wait(120s);
-  if (output) *output = p.output();
-  return status.value_or(-1);
+  return testing::run_to_end(testing::probeless_binary(), args, output, 120s);
 }
 
 // Ramamoorthi & Hanrahan's Uffizi row, against the command's y-up output of the probe / 10

@@ -7,6 +7,7 @@
 
 #include "app/pipeline/pipeline.hpp"
 #include "drivers/rig_factory.hpp"
+#include "support/pipeline_frames.hpp"
 
 namespace probeless {
 namespace {
@@ -49,20 +50,15 @@ double matte_iou_over_run(const std::string& method, int frames) {
   Overlap total;
   int with_occlusion = 0;
   pipeline.start();
-  LatestFrame<CompositeFrame>::Sequence seen = 0;
-  while (!pipeline.finished() || pipeline.output().sequence() > seen) {
-    auto item = pipeline.output().wait_newer(seen, 200ms);
-    if (!item) continue;
-    seen = item->sequence;
-    const CompositeFrame& f = item->value;
-    if (!f.alpha || !f.truth) continue;
+  testing::for_each_output_frame(pipeline, [&](const CompositeFrame& f) {
+    if (!f.alpha || !f.truth) return;
     const Overlap o = occluded_overlap(f);
     // Frames where the arm covers a meaningful part of the object (>= 300 px).
-    if (o.truth < 300) continue;
+    if (o.truth < 300) return;
     ++with_occlusion;
     total.intersection += o.intersection;
     total.uni += o.uni;
-  }
+  });
   pipeline.stop();
   EXPECT_FALSE(pipeline.fatal_error().has_value()) << pipeline.fatal_error().value_or("");
   EXPECT_GT(with_occlusion, 5) << "the sim's arm should cross the object in this run";

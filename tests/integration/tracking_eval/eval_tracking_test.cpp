@@ -17,22 +17,10 @@ namespace {
 using namespace std::chrono_literals;
 namespace fs = std::filesystem;
 
-std::string binary() {
-  const char* b = std::getenv("PROBELESS_BINARY");
-  return b ? b : "probeless";
-}
-
 // Runs probeless with `args`; returns the exit status (-1 on timeout). `output` gets stdout
 // and stderr.
 int run(const std::vector<std::string>& args, std::string* output = nullptr) {
-  std::string command = "exec '" + binary() + "'";
-  for (const auto& a : args) command += " '" + a + "'";
-  command += " 2>&1";
-  testing::Subprocess p({"/bin/sh", "-c", command});
-  p.wait_for_line("\x01 no such line", 600s);  // reads all output, until EOF
-  const auto status = p.wait(600s);
-  if (output) *output = p.output();
-  return status.value_or(-1);
+  return testing::run_to_end(testing::probeless_binary(), args, output, 600s);
 }
 
 nlohmann::json read_json(const fs::path& path) {

@@ -6,6 +6,7 @@
 
 #include "app/pipeline/pipeline.hpp"
 #include "drivers/rig_factory.hpp"
+#include "support/pipeline_frames.hpp"
 
 namespace probeless {
 namespace {
@@ -24,12 +25,7 @@ TEST(LostTracking, CameraPictureWithABannerAndNoObject) {
   Pipeline pipeline(config, open_rig(config.source), options);
   pipeline.start();
   int frames = 0;
-  LatestFrame<CompositeFrame>::Sequence seen = 0;
-  while (!pipeline.finished() || pipeline.output().sequence() > seen) {
-    auto item = pipeline.output().wait_newer(seen, 200ms);
-    if (!item) continue;
-    seen = item->sequence;
-    const CompositeFrame& f = item->value;
+  testing::for_each_output_frame(pipeline, [&](const CompositeFrame& f) {
     ++frames;
     ASSERT_TRUE(f.alpha && f.virtual_depth && f.colour);
     for (float a : f.alpha->elements()) ASSERT_EQ(a, 0.0f) << "a virtual object was drawn";
@@ -40,7 +36,7 @@ TEST(LostTracking, CameraPictureWithABannerAndNoObject) {
         banner += f.colour->at(x, y, 0) == 255 && f.colour->at(x, y, 1) == 200 &&
                   f.colour->at(x, y, 2) == 0;
     EXPECT_GT(banner, 20) << "no banner";
-  }
+  });
   const auto status = pipeline.status();
   pipeline.stop();
   EXPECT_FALSE(pipeline.fatal_error().has_value()) << pipeline.fatal_error().value_or("");

@@ -6,6 +6,7 @@
 #include "app/pipeline/pipeline.hpp"
 #include "drivers/rig_factory.hpp"
 #include "drivers/sim/sim_rig.hpp"
+#include "support/pipeline_frames.hpp"
 
 namespace probeless {
 namespace {
@@ -34,12 +35,7 @@ TEST(MarkerService, ObjectsStandOnTheBoardOnceItIsSeen) {
   pipeline.start();
   int drawn = 0, frames = 0;
   bool drawn_before = false;
-  LatestFrame<CompositeFrame>::Sequence seen = 0;
-  while (!pipeline.finished() || pipeline.output().sequence() > seen) {
-    auto item = pipeline.output().wait_newer(seen, 200ms);
-    if (!item) continue;
-    seen = item->sequence;
-    const CompositeFrame& f = item->value;
+  testing::for_each_output_frame(pipeline, [&](const CompositeFrame& f) {
     ++frames;
     ASSERT_TRUE(f.virtual_depth && f.truth && f.truth->rig_pose);
     // The board's centre, where the box stands, projected with the truth.
@@ -56,14 +52,14 @@ TEST(MarkerService, ObjectsStandOnTheBoardOnceItIsSeen) {
         }
     if (object_px == 0) {
       EXPECT_EQ(drawn, 0) << "once anchored, the box stays while the board is in view";
-      continue;
+      return;
     }
     ++drawn;
     drawn_before = true;
     // The box's foot is at the board's centre: most of the box is within 40 px of it.
     EXPECT_GT(near_centre, object_px / 2)
         << "frame " << f.sequence << " at (" << u << ", " << v << ")";
-  }
+  });
   const auto status = pipeline.status();
   pipeline.stop();
   EXPECT_FALSE(pipeline.fatal_error().has_value()) << pipeline.fatal_error().value_or("");

@@ -15,6 +15,7 @@
 #include "app/pipeline/pipeline.hpp"
 #include "drivers/rig_factory.hpp"
 #include "kernels/tracking/dense_tracker.hpp"
+#include "support/pipeline_frames.hpp"
 #include "support/test_data.hpp"
 
 namespace probeless {
@@ -72,13 +73,8 @@ Drift drift_over_run(const std::string& spec, const std::string& method) {
   Pipeline pipeline(config, open_rig(spec), options);
   Drift drift;
   pipeline.start();
-  LatestFrame<CompositeFrame>::Sequence seen = 0;
-  while (!pipeline.finished() || pipeline.output().sequence() > seen) {
-    auto item = pipeline.output().wait_newer(seen, 200ms);
-    if (!item) continue;
-    seen = item->sequence;
-    const CompositeFrame& f = item->value;
-    if (!f.virtual_depth || !f.truth || !f.truth->rig_pose) continue;
+  testing::for_each_output_frame(pipeline, [&](const CompositeFrame& f) {
+    if (!f.virtual_depth || !f.truth || !f.truth->rig_pose) return;
     const Pose T_world_camera = *f.truth->rig_pose * probe.calibration.T_rig_rgb;
     drift.truth_turn_deg =
         std::max(drift.truth_turn_deg,
@@ -87,16 +83,16 @@ Drift drift_over_run(const std::string& spec, const std::string& method) {
     const double u = k.fx * c.x() / c.z() + k.cx, v = k.fy * c.y() / c.z() + k.cy;
     const double margin = 1.5 * k.fx * kSphereRadius / c.z();  // the whole sphere in view
     if (c.z() <= 0 || u < margin || v < margin || u > k.width - margin || v > k.height - margin)
-      continue;
+      return;
     double su = 0, sv = 0, n = 0;
     const ImageF& depth = *f.virtual_depth;
     for (int y = 0; y < depth.height(); ++y)
       for (int x = 0; x < depth.width(); ++x)
         if (depth.at(x, y) > 0) su += x, sv += y, ++n;
     // Not drawn (tracking lost) is no drift: the object is never drawn at a wrong pose.
-    if (n == 0) continue;
+    if (n == 0) return;
     drift.px.push_back(std::hypot(su / n - u, sv / n - v));
-  }
+  });
   pipeline.stop();
   if (pipeline.fatal_error()) throw std::runtime_error(*pipeline.fatal_error());
   return drift;

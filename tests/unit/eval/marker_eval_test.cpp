@@ -79,14 +79,7 @@ TEST(EvalMarker, BadInputsAreClearErrors) {
 // the exit status and, in `output`, stdout and stderr.
 int run_probeless(const std::vector<std::string>& args, std::string& output) {
   using namespace std::chrono_literals;
-  const char* bin = std::getenv("PROBELESS_BINARY");
-  std::vector<std::string> argv{bin ? bin : "probeless"};
-  for (const auto& a : args) argv.push_back(a);
-  testing::Subprocess p(argv, {}, /*merge_stderr=*/true);
-  p.wait_for_line("\x01 no such line", 60s);  // reads all output, until EOF
-  const auto status = p.wait(60s);
-  output = p.output();
-  return status.value_or(-1);
+  return testing::run_to_end(testing::probeless_binary(), args, &output, 60s);
 }
 
 TEST(EvalMarkerCli, PrintsThePoseAndExitsOneWithoutABoard) {
