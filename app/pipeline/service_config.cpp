@@ -130,7 +130,10 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     r.get(*t, "method", c.occlusion_method);
   }
   if (auto* t = r.optional_table(root, "tracking")) {
-    r.only(*t, "[tracking]", {"method", "min_depth_m", "max_depth_m"});
+    r.only(*t, "[tracking]", {"method", "min_depth_m", "max_depth_m", "device"});
+    r.get(*t, "device", c.tracking.device);
+    if (c.tracking.device != "cpu" && c.tracking.device != "opencl")
+      r.fail(t->get("device"), "device '" + c.tracking.device + "' is not \"cpu\" or \"opencl\"");
     r.get(*t, "method", c.tracking.method);
     r.get(*t, "min_depth_m", c.tracking.min_depth_m);
     r.get(*t, "max_depth_m", c.tracking.max_depth_m);

@@ -34,7 +34,8 @@ RigLocaliser::RigLocaliser(const TrackingConfig& tracking, const WorldConfig& wo
     params.max_depth_m = static_cast<float>(tracking.max_depth_m);
     // The camera with its distortion: the tracker undistorts its finest level (frames arrive
     // raw; the upload stage undistorts only what the matte and composite see).
-    tracker_ = std::make_unique<tracking::DenseTracker>(ctx, calibration.rgb, params);
+    tracker_ = std::make_unique<tracking::DenseTracker>(tracking.device == "opencl" ? ctx : nullptr,
+                                                        calibration.rgb, params);
   } else if (tracking.method != "truth" && tracking.method != "off") {
     throw std::invalid_argument("tracking method '" + tracking.method +
                                 "' is not one of dense, truth, off");

@@ -12,6 +12,11 @@ struct TrackingConfig {
   std::string method = "dense";
   double min_depth_m = 0.3;  // depth the tracker uses (DenseTrackerParams)
   double max_depth_m = 4.0;
+  // Where the dense tracker runs: "cpu" (its plain C++ path, on the processing thread) or
+  // "opencl" (its kernels, on the frame path's queue). Both give the same poses
+  // (tests/kernels/tracking); which is faster depends on the device: see docs/tracking.md
+  // "Device and CPU" and the measurement behind the default in docs/performance.md.
+  std::string device = "cpu";
 };
 
 // [world]: where the world is (docs/tracking.md "World anchoring").

@@ -22,7 +22,10 @@ struct BenchArgs {
   // RGB-D as fast as the sim renders it; the fisheye at 50 frames/s of wall-clock time, the
   // load the upward camera puts on the appliance (docs/performance.md).
   std::string source = "sim:realtime=0,fisheye_realtime=1,fisheye_fps=50,trajectory=orbit";
-  std::string occlusion = "direct1";
+  // The service's defaults unless told otherwise: what a unit ships with is what is timed.
+  std::string occlusion = ServiceConfig{}.occlusion_method;
+  std::string tracking = ServiceConfig{}.tracking.method;
+  std::string tracking_device = ServiceConfig{}.tracking.device;
   std::int64_t frames = 300;
   std::int64_t warmup = 30;
   std::string json_path;
@@ -60,6 +63,8 @@ void run_bench(const BenchArgs& args) {
                      fmt::format("prerender={}", args.frames + args.warmup);
   }
   config.occlusion_method = args.occlusion;
+  config.tracking.method = args.tracking;
+  config.tracking.device = args.tracking_device;
   config.max_frames = args.frames + args.warmup;
   PipelineOptions options;
   options.lossless = true;
@@ -100,6 +105,8 @@ void run_bench(const BenchArgs& args) {
   j["light_frames"] = light.value("frames", 0);
   j["light_dropped"] = light.value("dropped", 0);
   j["occlusion"] = args.occlusion;
+  j["tracking"] = args.tracking;
+  j["tracking_device"] = args.tracking_device;
   nlohmann::json stages = nlohmann::json::object();
   for (const char* name :
        {"capture_rgbd", "capture_fisheye", "exposure_count", "light", "light_publish", "tracking",
@@ -117,8 +124,9 @@ void run_bench(const BenchArgs& args) {
   j["p50_ms"] = stages.contains("frame") ? stages["frame"]["p50_ms"].get<double>() : 0.0;
   j["p99_ms"] = stages.contains("frame") ? stages["frame"]["p99_ms"].get<double>() : 0.0;
 
-  std::cout << fmt::format("pipeline: {:.1f} fps over {} frames ({}; occlusion {})\n",
-                           j["fps"].get<double>(), out, config.source, args.occlusion);
+  std::cout << fmt::format("pipeline: {:.1f} fps over {} frames ({}; occlusion {}, tracking {})\n",
+                           j["fps"].get<double>(), out, config.source, args.occlusion,
+                           args.tracking);
   std::cout << fmt::format("  light: {} fisheye frames processed, {} dropped (whole run)\n",
                            j["light_frames"].get<std::uint64_t>(),
                            j["light_dropped"].get<std::uint64_t>());
@@ -146,7 +154,11 @@ void add_bench_pipeline_command(CLI::App& bench) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--warmup", args->warmup, "Frames before timing starts");
   cmd->add_option("--source", args->source, "Rig spec");
-  cmd->add_option("--occlusion", args->occlusion, "Occlusion method");
+  cmd->add_option("--occlusion", args->occlusion, "Occlusion method (default: the service's)");
+  cmd->add_option("--tracking", args->tracking,
+                  "Tracking method: dense | truth | off (default: the service's)");
+  cmd->add_option("--tracking-device", args->tracking_device,
+                  "Where dense tracking runs: cpu | opencl (default: the service's)");
   cmd->add_option("--json", args->json_path, "Also write the numbers as JSON");
   cmd->add_flag("--prerender", args->prerender,
                 "Render the sim's frames before timing: the pipeline alone, as with a camera");

@@ -21,6 +21,7 @@ std::string error_of(const std::string& toml) {
 TEST(TrackingConfig, DefaultsAreDenseTrackingInTheRigsWorld) {
   const ServiceConfig c = parse_service_config("");
   EXPECT_EQ(c.tracking.method, "dense");
+  EXPECT_EQ(c.tracking.device, "cpu");
   EXPECT_EQ(c.world.anchor, "rig");
   EXPECT_EQ(c.world.marker, "charuco:5x4:80:60:4x4_50");
 }
@@ -42,6 +43,7 @@ TEST(TrackingConfig, ReadsEveryKey) {
         parse_service_config(std::string("[tracking]\nmethod = \"") + m + "\"\n").tracking.method,
         m);
   EXPECT_EQ(parse_service_config("[world]\nanchor = \"floor\"\n").world.anchor, "floor");
+  EXPECT_EQ(parse_service_config("[tracking]\ndevice = \"opencl\"\n").tracking.device, "opencl");
 }
 
 TEST(TrackingConfig, BadValuesAreClearErrorsAtTheirLine) {
@@ -51,6 +53,7 @@ TEST(TrackingConfig, BadValuesAreClearErrorsAtTheirLine) {
       {"[tracking]\nmin_depth_m = 5\n", "0 < min_depth_m < max_depth_m"},
       {"[tracking]\nmax_depth_m = 50\n", "max_depth_m <= 20"},
       {"[tracking]\nrate = 5\n", "rate"},
+      {"[tracking]\ndevice = \"gpu\"\n", "is not \"cpu\" or \"opencl\""},
       {"[world]\nanchor = \"table\"\n", "is not one of \"marker\", \"floor\", \"rig\""},
       {"[world]\nmarker = \"charuco:5x4:80\"\n", "four fields"},
       {"[world]\nmarker = \"aruco:50:100:4x4_50\"\n", "0..49"},
