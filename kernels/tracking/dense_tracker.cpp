@@ -118,6 +118,7 @@ struct DenseTracker::Impl {
            rotation_deg(T_keyframe_camera) > params.keyframe_max_rotation_deg;
   }
   Alignment align(Keyframe& kf, const Pose& T_init, double gain0, double bias0);
+  std::optional<std::pair<Pose, Alignment>> revisit(const Pose& T_world_camera);
   bool accept(const Alignment& a) const {
     return a.visible_fraction >= params.min_visible_fraction &&
            a.inlier_fraction >= params.min_inlier_fraction;
@@ -197,6 +198,36 @@ Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gai
   out.T_current_keyframe = T;
   out.accepted = accept(out);
   return out;
+}
+
+// Before a new keyframe is made, an older kept one that still sees this view as the current
+// one must (the same overlap and distance bounds) becomes the reference again, and the frame's
+// pose is measured against it. A hand or a head swings back and forth over the same view: each
+// new keyframe composes one more alignment's error into every later pose, while a revisited
+// keyframe carries only the error it had when it was made (DVO-SLAM, Kerl et al. IROS 2013,
+// closes such loops in its graph; here the reference is simply re-used). Of the candidates,
+// the one that sees most of this frame wins. Returns the frame's pose against it; the
+// keyframe is moved to the back of the list.
+std::optional<std::pair<Pose, Alignment>> DenseTracker::Impl::revisit(const Pose& T_world_camera) {
+  std::optional<std::pair<Pose, Alignment>> best;
+  std::size_t best_index = 0;
+  for (std::size_t i = 0; i + 1 < keyframes.size(); ++i) {
+    Keyframe& kf = keyframes[i];
+    const Pose T_keyframe_camera = kf.T_world_keyframe.inverse() * T_world_camera;
+    if (beyond_keyframe(T_keyframe_camera)) continue;
+    const Alignment c = align(kf, T_keyframe_camera.inverse(), gain, bias);
+    if (!c.accepted || c.visible_fraction < params.keyframe_min_visible ||
+        beyond_keyframe(c.T_current_keyframe.inverse()))
+      continue;
+    if (best && c.visible_fraction <= best->second.visible_fraction) continue;
+    best.emplace(kf.T_world_keyframe * c.T_current_keyframe.inverse(), c);
+    best_index = i;
+  }
+  if (best) {
+    const auto it = keyframes.begin() + std::ptrdiff_t(best_index);
+    std::rotate(it, it + 1, keyframes.end());
+  }
+  return best;
 }
 
 DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeIntrinsics& camera,
@@ -316,7 +347,20 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
     return r;
   }
 
-  const Pose T_world_camera = reference->T_world_keyframe * a.T_current_keyframe.inverse();
+  Pose T_world_camera = reference->T_world_keyframe * a.T_current_keyframe.inverse();
+  bool switch_keyframe = a.visible_fraction < m.params.keyframe_min_visible ||
+                         m.beyond_keyframe(a.T_current_keyframe.inverse());
+  if (switch_keyframe && !r.relocalised) {
+    t0 = std::chrono::steady_clock::now();
+    if (const auto back = m.revisit(T_world_camera)) {
+      T_world_camera = back->first;
+      a.gain = back->second.gain;
+      a.bias = back->second.bias;
+      switch_keyframe = false;
+      r.revisited = true;
+    }
+    r.align_ms += ms_since(t0);
+  }
   m.last_motion = r.relocalised ? Pose::identity() : m.T_world_last.inverse() * T_world_camera;
   m.last_interval = r.relocalised ? 0 : interval;
   m.last_time = timestamp_ns;
@@ -330,8 +374,7 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
     std::rotate(it, it + 1, m.keyframes.end());
   }
 
-  if (a.visible_fraction < m.params.keyframe_min_visible ||
-      m.beyond_keyframe(a.T_current_keyframe.inverse())) {
+  if (switch_keyframe) {
     t0 = std::chrono::steady_clock::now();
     m.make_current_keyframe(T_world_camera);
     r.keyframe_ms = ms_since(t0);

@@ -65,6 +65,7 @@ struct TrackResult {
   int keyframes = 0;              // kept for relocalisation
   bool new_keyframe = false;      // this frame became the reference
   bool relocalised = false;       // tracking resumed against a kept keyframe on this frame
+  bool revisited = false;         // an older kept keyframe became the reference again (no new one)
   double visible_fraction = 0.0;  // keyframe points that land inside this frame
   double exposure_gain = 1.0;     // brightness model: I_frame = gain * I_keyframe + bias
   double exposure_bias = 0.0;

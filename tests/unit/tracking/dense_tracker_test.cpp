@@ -158,6 +158,32 @@ TEST(DenseTracker, DetectsLossAndRelocalisesWhenTheViewReturns) {
   EXPECT_LT((after.T_world_camera.translation - next.translation).norm(), 0.003);
 }
 
+TEST(DenseTracker, TurnsBackToAKeptKeyframeInsteadOfMakingANewOne) {
+  DenseTracker tracker(nullptr, kCamera);
+  TimestampNs t = 0;
+  auto step = [&](double yaw) {
+    t += ms_to_ns(33);
+    const auto f = render_room(kCamera, pose_from(0, 0, 0, 0, yaw, 0));
+    return tracker.track(f.colour, f.depth_mm, t);
+  };
+  ASSERT_TRUE(step(0).new_keyframe);
+  // Out past the 10 degree bound (a second keyframe at 12) and on to 21 (a third would be
+  // next), then back: the views near 12 and 0 are the kept keyframes' own.
+  TrackResult r;
+  for (const double yaw : {3, 6, 9, 12, 15, 18}) r = step(yaw);
+  ASSERT_EQ(r.keyframes, 2);
+  bool revisited = false;
+  for (const double yaw : {15, 12, 9, 6, 3, 0, -1}) {
+    r = step(yaw);
+    ASSERT_EQ(r.state, TrackingState::Tracking) << yaw;
+    EXPECT_FALSE(r.new_keyframe) << yaw;
+    revisited = revisited || r.revisited;
+    EXPECT_LT(rotation_error_deg(r.T_world_camera, pose_from(0, 0, 0, 0, yaw, 0)), 0.05) << yaw;
+  }
+  EXPECT_TRUE(revisited);
+  EXPECT_EQ(r.keyframes, 2);  // the first keyframe is the reference again, no third was made
+}
+
 TEST(DenseTracker, RejectsFramesOfAnotherSize) {
   DenseTracker tracker(nullptr, kCamera);
   const auto frame = render_room(kCamera, Pose::identity());

@@ -11,8 +11,9 @@ namespace {
 
 // The bar of issue #17 is half the best OpenCV 4.6 odometry on the same frames: RgbdICP gave
 // 0.0396 m here (frame to frame, default parameters, no distortion; docs/tracking.md), so
-// 0.0198 m. The tracker measured 0.0186 m; the bound leaves no room for a regression past it.
-constexpr double kAteBoundM = 0.0198;
+// 0.0198 m. The tracker measured 0.0186 m, and 0.0167 m since it turns back to kept keyframes;
+// the bound is that with a margin of 8%.
+constexpr double kAteBoundM = 0.0180;
 
 TEST(DenseTrackerTum, TracksFr1RpyWithoutLossBelowTheAteBound) {
   PROBELESS_REQUIRE_DATA(testing::kTumRpy);
