@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -90,6 +91,18 @@ struct DenseTracker::Impl {
   Pose last_motion;                              // T_prev_cur of the last tracked pair
   TimestampNs last_time = 0, last_interval = 0;  // of the last tracked frame and pair
   double gain = 1, bias = 0;
+  // The current frame's rotation over its readout (rad, camera axes); zero: global shutter.
+  std::array<float, 3> readout_rotation{};
+
+  // The rotation over one readout at the angular velocity of `motion` (T_prev_cur) over
+  // `interval`; zero without a rolling shutter or without an interval to divide by.
+  std::array<float, 3> rotation_over_readout(const Pose& motion, TimestampNs interval) const {
+    if (params.rolling_shutter_readout_s <= 0.0 || interval <= 0) return {};
+    const Eigen::AngleAxisd r(motion.rotation);
+    const Eigen::Vector3d w =
+        r.axis() * r.angle() * (params.rolling_shutter_readout_s / (double(interval) * 1e-9));
+    return {float(w.x()), float(w.y()), float(w.z())};
+  }
 
   void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm) {
     if (device)
@@ -99,9 +112,10 @@ struct DenseTracker::Impl {
   }
 
   void make_current_keyframe(const Pose& T_world_camera) {
-    keyframes.push_back(device
-                            ? device->make_keyframe(T_world_camera, params.max_points_per_level)
-                            : make_keyframe(current, T_world_camera, params.max_points_per_level));
+    keyframes.push_back(device ? device->make_keyframe(T_world_camera, params.max_points_per_level,
+                                                       readout_rotation)
+                               : make_keyframe(current, T_world_camera, params.max_points_per_level,
+                                               readout_rotation));
     while (int(keyframes.size()) > params.max_keyframes) keyframes.pop_front();
     gain = 1;
     bias = 0;
@@ -152,6 +166,7 @@ Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gai
       p.photo_inlier = params.photometric_inlier;
       p.geo_inlier = params.geometric_inlier_m;
       p.min_depth = kMinWarpedDepthM;
+      for (int i = 0; i < 3; ++i) p.readout_rotation[i] = readout_rotation[std::size_t(i)];
       s = sums(kf, level, p);
       ++out.iterations;
       if (s[kPhotoCount] + s[kGeoCount] < 12) break;  // too few residuals for 6 unknowns
@@ -277,6 +292,11 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
   const Pose predicted = m.params.constant_velocity
                              ? m.T_world_last * scaled_motion(m.last_motion, scale)
                              : m.T_world_last;
+  // The rolling shutter's rotation while this frame was read out: the motion model's angular
+  // velocity (none for a first frame or while lost: no velocity is known then).
+  m.readout_rotation = m.state == TrackingState::Tracking && m.last_interval > 0
+                           ? m.rotation_over_readout(m.last_motion, m.last_interval)
+                           : std::array<float, 3>{};
   auto t0 = std::chrono::steady_clock::now();
   m.build_pyramid(colour, depth_mm);
   r.pyramid_ms = ms_since(t0);
@@ -375,6 +395,8 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
   }
 
   if (switch_keyframe) {
+    // The keyframe's points are corrected with the angular velocity just measured.
+    m.readout_rotation = m.rotation_over_readout(m.last_motion, m.last_interval);
     t0 = std::chrono::steady_clock::now();
     m.make_current_keyframe(T_world_camera);
     r.keyframe_ms = ms_since(t0);

@@ -86,7 +86,7 @@ TEST(TrackingDevice, NormalEquationsMatchTheReferenceOnTumFrames) {
   FramePyramid key_pyramid, current;
   build_pyramid_reference(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params, map,
                           key_pyramid);
-  Keyframe keyframe = make_keyframe(key_pyramid, Pose::identity(), params.max_points_per_level);
+  Keyframe keyframe = make_keyframe(key_pyramid, Pose::identity(), params.max_points_per_level, {});
   device.upload_points(keyframe);
   build_pyramid_reference(frames[11].colour, frames[11].depth_mm, camera.intrinsics(), params, map,
                           current);
@@ -130,11 +130,13 @@ TEST(TrackingDevice, KeyframePointsMatchTheReferenceOnTumFrames) {
   FramePyramid pyramid;
   build_pyramid_reference(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params, map,
                           pyramid);
-  const Keyframe reference = make_keyframe(pyramid, Pose::identity(), params.max_points_per_level);
+  const Keyframe reference =
+      make_keyframe(pyramid, Pose::identity(), params.max_points_per_level, {});
   TrackingDevice device(cl_context());
   device.set_undistortion(map);
   device.build_pyramid(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params);
-  const Keyframe on_device = device.make_keyframe(Pose::identity(), params.max_points_per_level);
+  const Keyframe on_device =
+      device.make_keyframe(Pose::identity(), params.max_points_per_level, {});
   ASSERT_EQ(on_device.device_points.size(), on_device.points.size());  // uploaded
   for (std::size_t l = 0; l < reference.points.size(); ++l) {
     const auto &a = reference.points[l], &b = on_device.points[l];
