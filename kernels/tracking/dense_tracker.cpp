@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -90,6 +91,18 @@ struct DenseTracker::Impl {
   Pose last_motion;                              // T_prev_cur of the last tracked pair
   TimestampNs last_time = 0, last_interval = 0;  // of the last tracked frame and pair
   double gain = 1, bias = 0;
+  // The current frame's rotation over its readout (rad, camera axes); zero: global shutter.
+  std::array<float, 3> readout_rotation{};
+
+  // The rotation over one readout at the angular velocity of `motion` (T_prev_cur) over
+  // `interval`; zero without a rolling shutter or without an interval to divide by.
+  std::array<float, 3> rotation_over_readout(const Pose& motion, TimestampNs interval) const {
+    if (params.rolling_shutter_readout_s <= 0.0 || interval <= 0) return {};
+    const Eigen::AngleAxisd r(motion.rotation);
+    const Eigen::Vector3d w =
+        r.axis() * r.angle() * (params.rolling_shutter_readout_s / (double(interval) * 1e-9));
+    return {float(w.x()), float(w.y()), float(w.z())};
+  }
 
   void build_pyramid(const ImageRGB8& colour, const DepthImage& depth_mm) {
     if (device)
@@ -99,9 +112,10 @@ struct DenseTracker::Impl {
   }
 
   void make_current_keyframe(const Pose& T_world_camera) {
-    keyframes.push_back(device
-                            ? device->make_keyframe(T_world_camera, params.max_points_per_level)
-                            : make_keyframe(current, T_world_camera, params.max_points_per_level));
+    keyframes.push_back(device ? device->make_keyframe(T_world_camera, params.max_points_per_level,
+                                                       readout_rotation)
+                               : make_keyframe(current, T_world_camera, params.max_points_per_level,
+                                               readout_rotation));
     while (int(keyframes.size()) > params.max_keyframes) keyframes.pop_front();
     gain = 1;
     bias = 0;
@@ -118,6 +132,7 @@ struct DenseTracker::Impl {
            rotation_deg(T_keyframe_camera) > params.keyframe_max_rotation_deg;
   }
   Alignment align(Keyframe& kf, const Pose& T_init, double gain0, double bias0);
+  std::optional<std::pair<Pose, Alignment>> revisit(const Pose& T_world_camera);
   bool accept(const Alignment& a) const {
     return a.visible_fraction >= params.min_visible_fraction &&
            a.inlier_fraction >= params.min_inlier_fraction;
@@ -151,6 +166,7 @@ Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gai
       p.photo_inlier = params.photometric_inlier;
       p.geo_inlier = params.geometric_inlier_m;
       p.min_depth = kMinWarpedDepthM;
+      for (int i = 0; i < 3; ++i) p.readout_rotation[i] = readout_rotation[std::size_t(i)];
       s = sums(kf, level, p);
       ++out.iterations;
       if (s[kPhotoCount] + s[kGeoCount] < 12) break;  // too few residuals for 6 unknowns
@@ -197,6 +213,36 @@ Alignment DenseTracker::Impl::align(Keyframe& kf, const Pose& T_init, double gai
   out.T_current_keyframe = T;
   out.accepted = accept(out);
   return out;
+}
+
+// Before a new keyframe is made, an older kept one that still sees this view as the current
+// one must (the same overlap and distance bounds) becomes the reference again, and the frame's
+// pose is measured against it. A hand or a head swings back and forth over the same view: each
+// new keyframe composes one more alignment's error into every later pose, while a revisited
+// keyframe carries only the error it had when it was made (DVO-SLAM, Kerl et al. IROS 2013,
+// closes such loops in its graph; here the reference is simply re-used). Of the candidates,
+// the one that sees most of this frame wins. Returns the frame's pose against it; the
+// keyframe is moved to the back of the list.
+std::optional<std::pair<Pose, Alignment>> DenseTracker::Impl::revisit(const Pose& T_world_camera) {
+  std::optional<std::pair<Pose, Alignment>> best;
+  std::size_t best_index = 0;
+  for (std::size_t i = 0; i + 1 < keyframes.size(); ++i) {
+    Keyframe& kf = keyframes[i];
+    const Pose T_keyframe_camera = kf.T_world_keyframe.inverse() * T_world_camera;
+    if (beyond_keyframe(T_keyframe_camera)) continue;
+    const Alignment c = align(kf, T_keyframe_camera.inverse(), gain, bias);
+    if (!c.accepted || c.visible_fraction < params.keyframe_min_visible ||
+        beyond_keyframe(c.T_current_keyframe.inverse()))
+      continue;
+    if (best && c.visible_fraction <= best->second.visible_fraction) continue;
+    best.emplace(kf.T_world_keyframe * c.T_current_keyframe.inverse(), c);
+    best_index = i;
+  }
+  if (best) {
+    const auto it = keyframes.begin() + std::ptrdiff_t(best_index);
+    std::rotate(it, it + 1, keyframes.end());
+  }
+  return best;
 }
 
 DenseTracker::DenseTracker(ComputeContext* ctx, const PinholeIntrinsics& camera,
@@ -246,6 +292,11 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
   const Pose predicted = m.params.constant_velocity
                              ? m.T_world_last * scaled_motion(m.last_motion, scale)
                              : m.T_world_last;
+  // The rolling shutter's rotation while this frame was read out: the motion model's angular
+  // velocity (none for a first frame or while lost: no velocity is known then).
+  m.readout_rotation = m.state == TrackingState::Tracking && m.last_interval > 0
+                           ? m.rotation_over_readout(m.last_motion, m.last_interval)
+                           : std::array<float, 3>{};
   auto t0 = std::chrono::steady_clock::now();
   m.build_pyramid(colour, depth_mm);
   r.pyramid_ms = ms_since(t0);
@@ -316,7 +367,20 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
     return r;
   }
 
-  const Pose T_world_camera = reference->T_world_keyframe * a.T_current_keyframe.inverse();
+  Pose T_world_camera = reference->T_world_keyframe * a.T_current_keyframe.inverse();
+  bool switch_keyframe = a.visible_fraction < m.params.keyframe_min_visible ||
+                         m.beyond_keyframe(a.T_current_keyframe.inverse());
+  if (switch_keyframe && !r.relocalised) {
+    t0 = std::chrono::steady_clock::now();
+    if (const auto back = m.revisit(T_world_camera)) {
+      T_world_camera = back->first;
+      a.gain = back->second.gain;
+      a.bias = back->second.bias;
+      switch_keyframe = false;
+      r.revisited = true;
+    }
+    r.align_ms += ms_since(t0);
+  }
   m.last_motion = r.relocalised ? Pose::identity() : m.T_world_last.inverse() * T_world_camera;
   m.last_interval = r.relocalised ? 0 : interval;
   m.last_time = timestamp_ns;
@@ -330,8 +394,9 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
     std::rotate(it, it + 1, m.keyframes.end());
   }
 
-  if (a.visible_fraction < m.params.keyframe_min_visible ||
-      m.beyond_keyframe(a.T_current_keyframe.inverse())) {
+  if (switch_keyframe) {
+    // The keyframe's points are corrected with the angular velocity just measured.
+    m.readout_rotation = m.rotation_over_readout(m.last_motion, m.last_interval);
     t0 = std::chrono::steady_clock::now();
     m.make_current_keyframe(T_world_camera);
     r.keyframe_ms = ms_since(t0);

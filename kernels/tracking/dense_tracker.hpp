@@ -39,6 +39,10 @@ struct DenseTrackerParams {
   double min_update = 1e-4;       // stop a level when |xi| (rad, m) < this x 2^level
   float student_nu = 5.0f;        // degrees of freedom of the t-distribution (Kerl et al.)
   bool constant_velocity = true;  // predict from the last motion, else the last pose
+  // Rolling shutter: the time from the first row's exposure to the last row's (seconds); 0 for
+  // a global shutter. Each row is then seen from the camera turned by the motion model's
+  // angular velocity over its time from the middle row (docs/tracking.md).
+  double rolling_shutter_readout_s = 0.0;
 
   // Inliers: residual within these bounds (grey levels after the brightness model; metres of
   // point-to-plane distance at 1 m, scaled by depth squared as the sensor's noise).
@@ -65,6 +69,7 @@ struct TrackResult {
   int keyframes = 0;              // kept for relocalisation
   bool new_keyframe = false;      // this frame became the reference
   bool relocalised = false;       // tracking resumed against a kept keyframe on this frame
+  bool revisited = false;         // an older kept keyframe became the reference again (no new one)
   double visible_fraction = 0.0;  // keyframe points that land inside this frame
   double exposure_gain = 1.0;     // brightness model: I_frame = gain * I_keyframe + bias
   double exposure_bias = 0.0;

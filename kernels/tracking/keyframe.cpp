@@ -112,14 +112,35 @@ int point_block_size(int width, int height, int max_points) {
 }
 
 Keyframe make_keyframe(const FramePyramid& pyramid, const Pose& T_world_keyframe,
-                       int max_points_per_level) {
+                       int max_points_per_level, const std::array<float, 3>& readout_rotation) {
   Keyframe k;
   k.T_world_keyframe = T_world_keyframe;
   for (const auto& level : pyramid.levels) {
     k.cameras.push_back(level.camera);
     k.points.push_back(select_points(level, max_points_per_level));
   }
+  undo_rolling_shutter(k, readout_rotation);
   return k;
+}
+
+void undo_rolling_shutter(Keyframe& keyframe, const std::array<float, 3>& readout_rotation) {
+  if (readout_rotation == std::array<float, 3>{}) return;
+  const auto rotate = [](float a, float b, float c, float& x, float& y, float& z) {
+    const float x0 = x, y0 = y, z0 = z;
+    x = x0 + (b * z0 - c * y0);
+    y = y0 + (c * x0 - a * z0);
+    z = z0 + (a * y0 - b * x0);
+  };
+  for (std::size_t l = 0; l < keyframe.points.size(); ++l) {
+    const LevelCamera& c = keyframe.cameras[l];
+    for (TrackPoint& p : keyframe.points[l]) {
+      const float s = (c.fy * p.y / p.z + c.cy) / float(c.height) - 0.5f;
+      const float a = s * readout_rotation[0], b = s * readout_rotation[1],
+                  g = s * readout_rotation[2];
+      rotate(a, b, g, p.x, p.y, p.z);
+      if (p.has_normal > 0.0f) rotate(a, b, g, p.nx, p.ny, p.nz);
+    }
+  }
 }
 
 }  // namespace probeless::tracking

@@ -3,6 +3,7 @@
 // with everything that does not depend on the current frame (3D point, intensity, normal and
 // both Jacobians) computed once when the frame becomes a keyframe.
 #include <CL/opencl.hpp>
+#include <array>
 #include <vector>
 
 #include "core/pose.hpp"
@@ -34,8 +35,15 @@ struct Keyframe {
 // The side of the blocks that each give one point, for a level of width x height.
 int point_block_size(int width, int height, int max_points);
 
-// Chooses and precomputes the points of every level (CPU; once per keyframe).
+// Chooses and precomputes the points of every level (CPU; once per keyframe), then
+// undo_rolling_shutter(readout_rotation).
 Keyframe make_keyframe(const FramePyramid& pyramid, const Pose& T_world_keyframe,
-                       int max_points_per_level);
+                       int max_points_per_level, const std::array<float, 3>& readout_rotation);
+
+// Rolling shutter: each point was seen by its row, exposed s = v/h - 1/2 of the readout away
+// from the middle row, when the camera had turned by s * readout_rotation (rad, camera axes):
+// its position and normal are moved into the middle row's camera (small angle). The
+// Jacobians are kept: the rotation is a fraction of a degree to a degree or two.
+void undo_rolling_shutter(Keyframe& keyframe, const std::array<float, 3>& readout_rotation);
 
 }  // namespace probeless::tracking

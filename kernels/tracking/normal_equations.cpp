@@ -40,11 +40,27 @@ NormalSums accumulate_reference(const std::vector<TrackPoint>& points, const Fra
       }
     }
     const TrackPoint& pt = points[i];
-    const float X = p.r[0] * pt.x + p.r[1] * pt.y + p.r[2] * pt.z + p.t[0];
-    const float Y = p.r[3] * pt.x + p.r[4] * pt.y + p.r[5] * pt.z + p.t[1];
-    const float Z = p.r[6] * pt.x + p.r[7] * pt.y + p.r[8] * pt.z + p.t[2];
-    if (!(Z >= p.min_depth)) continue;
-    const float u = p.fx * X / Z + p.cx, v = p.fy * Y / Z + p.cy;
+    const float X0 = p.r[0] * pt.x + p.r[1] * pt.y + p.r[2] * pt.z + p.t[0];
+    const float Y0 = p.r[3] * pt.x + p.r[4] * pt.y + p.r[5] * pt.z + p.t[1];
+    const float Z0 = p.r[6] * pt.x + p.r[7] * pt.y + p.r[8] * pt.z + p.t[2];
+    if (!(Z0 >= p.min_depth)) continue;
+    float u = p.fx * X0 / Z0 + p.cx, v = p.fy * Y0 / Z0 + p.cy;
+    float X = X0, Y = Y0, Z = Z0;
+    if (p.readout_rotation[0] != 0.0f || p.readout_rotation[1] != 0.0f ||
+        p.readout_rotation[2] != 0.0f) {
+      // Rolling shutter: the row that sees the point was exposed `row` of the readout after
+      // the middle row, when the camera had turned by row * readout_rotation: the point in that
+      // row's camera (small angle), projected again; the row is the first projection's.
+      const float row = v / float(h) - 0.5f;
+      const float a = -row * p.readout_rotation[0], b = -row * p.readout_rotation[1],
+                  c = -row * p.readout_rotation[2];
+      X = X0 + (b * Z0 - c * Y0);
+      Y = Y0 + (c * X0 - a * Z0);
+      Z = Z0 + (a * Y0 - b * X0);
+      if (!(Z >= p.min_depth)) continue;
+      u = p.fx * X / Z + p.cx;
+      v = p.fy * Y / Z + p.cy;
+    }
     if (!(u >= 0.0f && v >= 0.0f && u < float(w - 1) && v < float(h - 1))) continue;
     s[kVisible] += 1.0f;
     bool inlier = true;

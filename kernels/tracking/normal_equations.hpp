@@ -22,8 +22,12 @@ struct IterationParams {
   float photo_inlier;    // |r| bounds of an inlier
   float geo_inlier;
   float min_depth;  // points nearer than this after the warp are not visible
+  // Rolling shutter: the current frame's rotation (rad, its camera axes) from the top row's
+  // exposure to the bottom row's; zero for a global shutter (docs/tracking.md).
+  float readout_rotation[3];
+  float pad;
 };
-static_assert(sizeof(IterationParams) == 24 * sizeof(float));
+static_assert(sizeof(IterationParams) == 28 * sizeof(float));
 
 // Indices into the sums.
 enum Sum : int {

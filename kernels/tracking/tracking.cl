@@ -17,6 +17,8 @@ typedef struct {
   float nu;
   float photo_inlier, geo_inlier;
   float min_depth;
+  float readout_rotation[3];
+  float pad;
 } IterationParams;
 
 inline float luma(__global const uchar* rgb) {
@@ -145,11 +147,25 @@ __kernel __attribute__((reqd_work_group_size(LOCAL, 1, 1))) void accumulate_norm
   for (int k = 0; k < SUMS; ++k) acc[k] = 0.0f;
   for (int i = get_global_id(0); i < count; i += get_global_size(0)) {
     __global const float* pt = points + i * PT_STRIDE;
-    const float X = p.r[0] * pt[0] + p.r[1] * pt[1] + p.r[2] * pt[2] + p.t[0];
-    const float Y = p.r[3] * pt[0] + p.r[4] * pt[1] + p.r[5] * pt[2] + p.t[1];
-    const float Z = p.r[6] * pt[0] + p.r[7] * pt[1] + p.r[8] * pt[2] + p.t[2];
-    if (!(Z >= p.min_depth)) continue;
-    const float u = p.fx * X / Z + p.cx, v = p.fy * Y / Z + p.cy;
+    const float X0 = p.r[0] * pt[0] + p.r[1] * pt[1] + p.r[2] * pt[2] + p.t[0];
+    const float Y0 = p.r[3] * pt[0] + p.r[4] * pt[1] + p.r[5] * pt[2] + p.t[1];
+    const float Z0 = p.r[6] * pt[0] + p.r[7] * pt[1] + p.r[8] * pt[2] + p.t[2];
+    if (!(Z0 >= p.min_depth)) continue;
+    float u = p.fx * X0 / Z0 + p.cx, v = p.fy * Y0 / Z0 + p.cy;
+    float X = X0, Y = Y0, Z = Z0;
+    if (p.readout_rotation[0] != 0.0f || p.readout_rotation[1] != 0.0f ||
+        p.readout_rotation[2] != 0.0f) {
+      // Rolling shutter, as normal_equations.cpp.
+      const float s = v / (float)height - 0.5f;
+      const float a = -s * p.readout_rotation[0], b = -s * p.readout_rotation[1],
+                  c = -s * p.readout_rotation[2];
+      X = X0 + (b * Z0 - c * Y0);
+      Y = Y0 + (c * X0 - a * Z0);
+      Z = Z0 + (a * Y0 - b * X0);
+      if (!(Z >= p.min_depth)) continue;
+      u = p.fx * X / Z + p.cx;
+      v = p.fy * Y / Z + p.cy;
+    }
     if (!(u >= 0.0f && v >= 0.0f && u < (float)(width - 1) && v < (float)(height - 1))) continue;
     acc[33] += 1.0f;
 

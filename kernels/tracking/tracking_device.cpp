@@ -105,7 +105,8 @@ void TrackingDevice::download_pyramid(FramePyramid& pyramid) {
   }
 }
 
-Keyframe TrackingDevice::make_keyframe(const Pose& T_world_keyframe, int max_points_per_level) {
+Keyframe TrackingDevice::make_keyframe(const Pose& T_world_keyframe, int max_points_per_level,
+                                       const std::array<float, 3>& readout_rotation) {
   Keyframe keyframe;
   keyframe.T_world_keyframe = T_world_keyframe;
   auto& q = ctx_.queue();
@@ -137,6 +138,7 @@ Keyframe TrackingDevice::make_keyframe(const Pose& T_world_keyframe, int max_poi
     for (const TrackPoint& p : slots_host_)
       if (p.valid > 0.0f) points.push_back(p);
   }
+  undo_rolling_shutter(keyframe, readout_rotation);
   upload_points(keyframe);
   return keyframe;
 }

@@ -28,7 +28,8 @@ class TrackingDevice {
   void download_pyramid(FramePyramid& pyramid);
   // The last built pyramid as a keyframe: points chosen and precomputed on the device (the
   // twin of make_keyframe()), compacted on the host and uploaded.
-  Keyframe make_keyframe(const Pose& T_world_keyframe, int max_points_per_level);
+  Keyframe make_keyframe(const Pose& T_world_keyframe, int max_points_per_level,
+                         const std::array<float, 3>& readout_rotation);
   // Copies the keyframe's points to the device once (no-op when already there).
   void upload_points(Keyframe& keyframe);
   // One iteration's sums at `level` of the last built pyramid.

@@ -87,6 +87,7 @@ void run(const Options& o) {
         eval::open_tracking_sequence(o.dataset.empty() ? default_dataset() : o.dataset, o.frames);
     name = sequence->name();
     camera = sequence->camera();
+    const double readout_s = sequence->rolling_shutter_readout_s();
     while (auto f = sequence->next()) frames.push_back(std::move(*f));
     if (frames.size() < 2) throw std::invalid_argument(name + ": fewer than 2 frames");
     std::unique_ptr<ComputeContext> ctx;
@@ -95,7 +96,8 @@ void run(const Options& o) {
       device = ctx->describe();
     }
     for (const auto& n : names) {
-      auto method = eval::make_tracking_method(n, camera, eval::TrackingDepthRange{}, ctx.get());
+      auto method =
+          eval::make_tracking_method(n, camera, eval::TrackingDepthRange{}, ctx.get(), readout_s);
       spdlog::info("bench tracking: {} on {} frames", n, frames.size());
       timings.push_back(time_method(*method, frames));
     }

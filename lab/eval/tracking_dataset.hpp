@@ -30,6 +30,9 @@ class TrackingSequence {
   virtual const PinholeIntrinsics& camera() const = 0;
   // Where the intrinsics came from and whether the images were undistorted.
   virtual const std::string& camera_description() const = 0;
+  // The colour camera's rolling-shutter readout (s), 0 for a global shutter: a property of the
+  // sensor, given to the trackers that model it (the dense tracker).
+  virtual double rolling_shutter_readout_s() const { return 0.0; }
   // The next frame, or nullopt at the end (or after `max_frames`). Throws on a read error.
   virtual std::optional<TrackingFrame> next() = 0;
 };

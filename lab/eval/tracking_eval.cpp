@@ -37,7 +37,11 @@ TrackingEvalReport evaluate_tracking(TrackingSequence& sequence,
   };
   std::vector<Run> runs;
   for (const auto& name : names)
-    runs.push_back({make_tracking_method(name, sequence.camera(), range, ctx), {}, {}, 0});
+    runs.push_back({make_tracking_method(name, sequence.camera(), range, ctx,
+                                         sequence.rolling_shutter_readout_s()),
+                    {},
+                    {},
+                    0});
 
   TrackingEvalReport report;
   report.sequence = sequence.name();

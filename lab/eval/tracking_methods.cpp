@@ -16,8 +16,8 @@ namespace {
 class DenseMethod final : public TrackingMethod {
  public:
   DenseMethod(std::string name, ComputeContext* ctx, const PinholeIntrinsics& camera,
-              const TrackingDepthRange& range)
-      : name_(std::move(name)), tracker_(ctx, camera, params(range)) {}
+              const TrackingDepthRange& range, double rolling_shutter_readout_s)
+      : name_(std::move(name)), tracker_(ctx, camera, params(range, rolling_shutter_readout_s)) {}
   const std::string& name() const override { return name_; }
   TrackingStep track(const ImageRGB8& colour, const DepthImage& depth_mm,
                      TimestampNs timestamp_ns) override {
@@ -32,10 +32,12 @@ class DenseMethod final : public TrackingMethod {
   }
 
  private:
-  static tracking::DenseTrackerParams params(const TrackingDepthRange& range) {
+  static tracking::DenseTrackerParams params(const TrackingDepthRange& range,
+                                             double rolling_shutter_readout_s) {
     tracking::DenseTrackerParams p;
     p.min_depth_m = range.min_m;
     p.max_depth_m = range.max_m;
+    p.rolling_shutter_readout_s = rolling_shutter_readout_s;
     return p;
   }
   std::string name_;
@@ -106,12 +108,14 @@ const std::vector<std::string>& tracking_method_names() {
 std::unique_ptr<TrackingMethod> make_tracking_method(const std::string& name,
                                                      const PinholeIntrinsics& camera,
                                                      const TrackingDepthRange& range,
-                                                     ComputeContext* ctx) {
+                                                     ComputeContext* ctx,
+                                                     double rolling_shutter_readout_s) {
   if (name == "dense") {
     if (!ctx) throw std::invalid_argument("tracking method dense needs an OpenCL context");
-    return std::make_unique<DenseMethod>(name, ctx, camera, range);
+    return std::make_unique<DenseMethod>(name, ctx, camera, range, rolling_shutter_readout_s);
   }
-  if (name == "dense_cpu") return std::make_unique<DenseMethod>(name, nullptr, camera, range);
+  if (name == "dense_cpu")
+    return std::make_unique<DenseMethod>(name, nullptr, camera, range, rolling_shutter_readout_s);
   // OpenCV's defaults for everything but the depth range (max depth difference 0.07 m,
   // 7% of the points, its own iteration counts and gradient thresholds).
   const cv::Mat k = camera_matrix(camera);

@@ -44,10 +44,12 @@ class TrackingMethod {
 const std::vector<std::string>& tracking_method_names();
 
 // Throws std::invalid_argument for an unknown name. `ctx` is needed by `dense` only.
+// `rolling_shutter_readout_s`: the sequence's (TrackingSequence), used by the dense tracker.
 std::unique_ptr<TrackingMethod> make_tracking_method(const std::string& name,
                                                      const PinholeIntrinsics& camera,
                                                      const TrackingDepthRange& range,
-                                                     ComputeContext* ctx);
+                                                     ComputeContext* ctx,
+                                                     double rolling_shutter_readout_s = 0.0);
 
 // "dense,opencv_icp" -> names, checked against tracking_method_names(); throws
 // std::invalid_argument naming an unknown one or an empty list.

@@ -10,6 +10,7 @@ namespace {
 
 using testing::pose_from;
 using testing::render_room;
+using testing::render_room_rows;
 using testing::rotation_error_deg;
 
 const PinholeIntrinsics kCamera{640, 480, 525.0, 525.0, 319.5, 239.5};
@@ -156,6 +157,66 @@ TEST(DenseTracker, DetectsLossAndRelocalisesWhenTheViewReturns) {
   EXPECT_EQ(after.state, TrackingState::Tracking);
   EXPECT_FALSE(after.relocalised);
   EXPECT_LT((after.T_world_camera.translation - next.translation).norm(), 0.003);
+}
+
+TEST(DenseTracker, TurnsBackToAKeptKeyframeInsteadOfMakingANewOne) {
+  DenseTracker tracker(nullptr, kCamera);
+  TimestampNs t = 0;
+  auto step = [&](double yaw) {
+    t += ms_to_ns(33);
+    const auto f = render_room(kCamera, pose_from(0, 0, 0, 0, yaw, 0));
+    return tracker.track(f.colour, f.depth_mm, t);
+  };
+  ASSERT_TRUE(step(0).new_keyframe);
+  // Out past the 10 degree bound (a second keyframe at 12) and on to 21 (a third would be
+  // next), then back: the views near 12 and 0 are the kept keyframes' own.
+  TrackResult r;
+  for (const double yaw : {3, 6, 9, 12, 15, 18}) r = step(yaw);
+  ASSERT_EQ(r.keyframes, 2);
+  bool revisited = false;
+  for (const double yaw : {15, 12, 9, 6, 3, 0, -1}) {
+    r = step(yaw);
+    ASSERT_EQ(r.state, TrackingState::Tracking) << yaw;
+    EXPECT_FALSE(r.new_keyframe) << yaw;
+    revisited = revisited || r.revisited;
+    EXPECT_LT(rotation_error_deg(r.T_world_camera, pose_from(0, 0, 0, 0, yaw, 0)), 0.05) << yaw;
+  }
+  EXPECT_TRUE(revisited);
+  EXPECT_EQ(r.keyframes, 2);  // the first keyframe is the reference again, no third was made
+}
+
+TEST(DenseTracker, ModelsARollingShutter) {
+  // A camera at rest that starts to pan at 90 degrees/s, seen by a rolling shutter that reads
+  // the frame out in 28 ms: each row rendered from the pose at its own time. The keyframe at
+  // rest is not sheared, the panning frames are: without the model that shear biases every
+  // alignment; with it, from the second panning frame on (the first one's velocity is not
+  // known yet), the frames are undone into their middle row's camera.
+  constexpr double kReadoutS = 0.028, kDt = 1.0 / 30.0;
+  auto yaw_at = [&](double t) { return t <= kDt ? 0.0 : 90.0 * (t - kDt); };
+  auto run = [&](double readout_s) {
+    DenseTrackerParams params;
+    params.rolling_shutter_readout_s = readout_s;
+    DenseTracker tracker(nullptr, kCamera, params);
+    double worst = 0;
+    for (int i = 0; i <= 6; ++i) {
+      const double t = i * kDt;
+      const auto f = render_room_rows(kCamera, [&](int y) {
+        return pose_from(0, 0, 0, 0, yaw_at(t + (double(y) / kCamera.height - 0.5) * kReadoutS), 0);
+      });
+      const TrackResult r = tracker.track(f.colour, f.depth_mm, ms_to_ns(33) * i);
+      EXPECT_EQ(r.state, TrackingState::Tracking);
+      const double error =
+          rotation_error_deg(r.T_world_camera, pose_from(0, 0, 0, 0, yaw_at(t), 0));
+      std::printf("  frame %d: %.3f deg\n", i, error);
+      if (i >= 3) worst = std::max(worst, error);
+    }
+    return worst;
+  };
+  const double global = run(0.0), rolling = run(kReadoutS);
+  std::printf("rolling shutter: worst rotation error %.3f deg modelled, %.3f deg not\n", rolling,
+              global);
+  EXPECT_LT(rolling, 0.5 * global);
+  EXPECT_LT(rolling, 0.1);
 }
 
 TEST(DenseTracker, RejectsFramesOfAnotherSize) {

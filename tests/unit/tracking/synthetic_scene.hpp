@@ -27,12 +27,15 @@ inline double room_texture(double u, double v, int pattern) {
 
 // T_world_camera: OpenCV axes (x right, y down, z forward); the room's back wall at z = 2.2,
 // floor at y = 0.7, left wall at x = -1.0 (world = the first camera).
-inline RenderedFrame render_room(const PinholeIntrinsics& k, const Pose& T_world_camera,
-                                 int pattern = 0) {
+// `row_pose(y)`: the camera's pose when row y was exposed (a rolling shutter); render_room
+// below is the global shutter's case.
+template <class RowPose>
+RenderedFrame render_room_rows(const PinholeIntrinsics& k, RowPose row_pose, int pattern = 0) {
   RenderedFrame f{ImageRGB8(k.width, k.height), DepthImage(k.width, k.height)};
-  const Eigen::Matrix3d R = T_world_camera.rotation.toRotationMatrix();
-  const Eigen::Vector3d c = T_world_camera.translation;
-  for (int y = 0; y < k.height; ++y)
+  for (int y = 0; y < k.height; ++y) {
+    const Pose T_world_camera = row_pose(y);
+    const Eigen::Matrix3d R = T_world_camera.rotation.toRotationMatrix();
+    const Eigen::Vector3d c = T_world_camera.translation;
     for (int x = 0; x < k.width; ++x) {
       const Eigen::Vector3d ray((x - k.cx) / k.fx, (y - k.cy) / k.fy, 1.0);
       const Eigen::Vector3d d = R * ray;
@@ -54,7 +57,14 @@ inline RenderedFrame render_room(const PinholeIntrinsics& k, const Pose& T_world
       f.colour.at(x, y, 0) = f.colour.at(x, y, 1) = f.colour.at(x, y, 2) = g;
       f.depth_mm.at(x, y) = std::uint16_t(std::lround(z * 1000.0));
     }
+  }
   return f;
+}
+
+inline RenderedFrame render_room(const PinholeIntrinsics& k, const Pose& T_world_camera,
+                                 int pattern = 0) {
+  return render_room_rows(
+      k, [&](int) { return T_world_camera; }, pattern);
 }
 
 inline Pose pose_from(double tx, double ty, double tz, double rx_deg, double ry_deg,

@@ -19,6 +19,14 @@
 namespace probeless::testing {
 
 inline constexpr const char* kTumRpy = "rgbd/tum_fr1_rpy";
+// The Kinect's rolling-shutter readout, as `eval tracking` gives TUM sequences
+// (lab/eval/tracking_dataset.cpp: Kerl et al. ICCV 2015).
+inline constexpr double kKinectReadoutS = 0.028;
+inline tracking::DenseTrackerParams tum_params() {
+  tracking::DenseTrackerParams p;
+  p.rolling_shutter_readout_s = kKinectReadoutS;
+  return p;
+}
 
 // TUM's published fr1 colour camera (https://cvg.cit.tum.de/data/datasets/rgbd-dataset/
 // file_formats, "Intrinsic Camera Calibration of the Kinect").

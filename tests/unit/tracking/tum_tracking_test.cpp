@@ -11,14 +11,15 @@ namespace {
 
 // The bar of issue #17 is half the best OpenCV 4.6 odometry on the same frames: RgbdICP gave
 // 0.0396 m here (frame to frame, default parameters, no distortion; docs/tracking.md), so
-// 0.0198 m. The tracker measured 0.0186 m; the bound leaves no room for a regression past it.
-constexpr double kAteBoundM = 0.0198;
+// 0.0198 m. The tracker measured 0.0186 m, 0.0167 m once it turned back to kept keyframes and
+// 0.0125 m with the Kinect's rolling shutter modelled; the bound is that with a margin of 8%.
+constexpr double kAteBoundM = 0.0135;
 
 TEST(DenseTrackerTum, TracksFr1RpyWithoutLossBelowTheAteBound) {
   PROBELESS_REQUIRE_DATA(testing::kTumRpy);
   const auto frames = testing::read_tum_frames();
   ASSERT_EQ(frames.size(), 150u);
-  DenseTracker tracker(nullptr, testing::tum_fr1_camera());
+  DenseTracker tracker(nullptr, testing::tum_fr1_camera(), testing::tum_params());
   const auto run = testing::run_tum(tracker, frames);
   testing::print_tum_run("CPU reference", frames.size(), run);
   EXPECT_EQ(run.lost, 0);
