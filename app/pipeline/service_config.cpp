@@ -130,7 +130,12 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     r.get(*t, "method", c.occlusion_method);
   }
   if (auto* t = r.optional_table(root, "tracking")) {
-    r.only(*t, "[tracking]", {"method", "min_depth_m", "max_depth_m", "device"});
+    r.only(*t, "[tracking]",
+           {"method", "min_depth_m", "max_depth_m", "device", "rolling_shutter_readout_s"});
+    r.get(*t, "rolling_shutter_readout_s", c.tracking.rolling_shutter_readout_s);
+    if (!(c.tracking.rolling_shutter_readout_s >= 0 && c.tracking.rolling_shutter_readout_s < 0.1))
+      r.fail(t->get("rolling_shutter_readout_s"),
+             "rolling_shutter_readout_s must be in [0, 0.1) seconds");
     r.get(*t, "device", c.tracking.device);
     if (c.tracking.device != "cpu" && c.tracking.device != "opencl")
       r.fail(t->get("device"), "device '" + c.tracking.device + "' is not \"cpu\" or \"opencl\"");

@@ -32,6 +32,7 @@ RigLocaliser::RigLocaliser(const TrackingConfig& tracking, const WorldConfig& wo
     tracking::DenseTrackerParams params;
     params.min_depth_m = static_cast<float>(tracking.min_depth_m);
     params.max_depth_m = static_cast<float>(tracking.max_depth_m);
+    params.rolling_shutter_readout_s = tracking.rolling_shutter_readout_s;
     // The camera with its distortion: the tracker undistorts its finest level (frames arrive
     // raw; the upload stage undistorts only what the matte and composite see).
     tracker_ = std::make_unique<tracking::DenseTracker>(tracking.device == "opencl" ? ctx : nullptr,

@@ -44,6 +44,9 @@ TEST(TrackingConfig, ReadsEveryKey) {
         m);
   EXPECT_EQ(parse_service_config("[world]\nanchor = \"floor\"\n").world.anchor, "floor");
   EXPECT_EQ(parse_service_config("[tracking]\ndevice = \"opencl\"\n").tracking.device, "opencl");
+  EXPECT_DOUBLE_EQ(parse_service_config("[tracking]\nrolling_shutter_readout_s = 0.028\n")
+                       .tracking.rolling_shutter_readout_s,
+                   0.028);
 }
 
 TEST(TrackingConfig, BadValuesAreClearErrorsAtTheirLine) {
@@ -54,6 +57,7 @@ TEST(TrackingConfig, BadValuesAreClearErrorsAtTheirLine) {
       {"[tracking]\nmax_depth_m = 50\n", "max_depth_m <= 20"},
       {"[tracking]\nrate = 5\n", "rate"},
       {"[tracking]\ndevice = \"gpu\"\n", "is not \"cpu\" or \"opencl\""},
+      {"[tracking]\nrolling_shutter_readout_s = -0.01\n", "rolling_shutter_readout_s"},
       {"[world]\nanchor = \"table\"\n", "is not one of \"marker\", \"floor\", \"rig\""},
       {"[world]\nmarker = \"charuco:5x4:80\"\n", "four fields"},
       {"[world]\nmarker = \"aruco:50:100:4x4_50\"\n", "0..49"},
