@@ -44,8 +44,11 @@ std::string found_text(const std::optional<BoardView>& v, const BoardDetector& d
 nlohmann::json intrinsics_json(const Intrinsics& in) {
   nlohmann::json views = nlohmann::json::array();
   for (const ViewFit& v : in.views)
-    views.push_back(
-        {{"file", v.name}, {"rms_px", v.rms_px}, {"corners", v.corners}, {"tilt_deg", v.tilt_deg}});
+    views.push_back({{"file", v.name},
+                     {"rms_px", v.rms_px},
+                     {"corners", v.corners},
+                     {"tilt_deg", v.tilt_deg},
+                     {"used", v.in_fit}});
   return {{"model", lens_model_name(in.model)},
           {"width", in.width},
           {"height", in.height},
@@ -56,7 +59,8 @@ nlohmann::json intrinsics_json(const Intrinsics& in) {
           {"distortion", in.distortion},
           {"rms_px", in.rms_px},
           {"tilt_spread_deg", in.tilt_spread_deg},
-          {"views_used", in.views.size()},
+          {"views_used", std::count_if(in.views.begin(), in.views.end(),
+                                       [](const ViewFit& v) { return v.in_fit; })},
           {"views", views}};
 }
 
