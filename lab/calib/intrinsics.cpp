@@ -253,6 +253,7 @@ double kannala_brandt_max_theta(const Intrinsics& f) {
   for (double u : {-0.5, f.width - 0.5})
     for (double v : {-0.5, f.height - 0.5})
       corner = std::max(corner, std::hypot((u - f.cx) / f.fx, (v - f.cy) / f.fy));
+  if (f.image_circle > 0) corner = std::min(corner, f.image_circle);
   constexpr double kStep = 1e-4;
   double theta = 0, theta_d = 0;
   while (theta < std::numbers::pi) {

@@ -64,6 +64,9 @@ struct Intrinsics {
   double rms_px = 0;               // over all corners of the views in the fit
   double tilt_spread_deg = 0;      // the largest angle between two views' board normals
   std::vector<ViewFit> views;      // in the order of the views given
+  // Kannala-Brandt: the lens's image circle in focal lengths from the centre (image_circle.hpp),
+  // where the model's domain ends; 0: the image is filled, the domain ends at its corners.
+  double image_circle = 0;
   // The model as core/camera has it (PinholeCamera or KannalaBrandtCamera).
   std::shared_ptr<const CameraModel> camera() const;
   PinholeCamera pinhole() const;  // model == Pinhole
@@ -82,7 +85,8 @@ Intrinsics calibrate_intrinsics(const std::vector<BoardView>& views, LensModel m
 ViewFit fit_board_pose(const CameraModel& camera, const BoardView& view);
 
 // The largest angle from the axis the fitted Kannala-Brandt polynomial is valid to: where the
-// farthest image corner lies, or earlier where theta_d(theta) stops increasing.
+// image circle ends (Intrinsics::image_circle, else the farthest image corner), or earlier
+// where theta_d(theta) stops increasing.
 double kannala_brandt_max_theta(const Intrinsics& fisheye);
 
 }  // namespace probeless::calib

@@ -14,6 +14,7 @@
 #include "drivers/replay/calibration_file.hpp"
 #include "lab/calib/board_detector.hpp"
 #include "lab/calib/camera_toml.hpp"
+#include "lab/calib/image_circle.hpp"
 #include "lab/calib/intrinsics.hpp"
 #include "lab/calib/rig_extrinsics.hpp"
 #include "lab/calib/view_image.hpp"
@@ -109,9 +110,13 @@ struct CameraSide {
 };
 
 CameraSide calibrated_side(const std::string& what, const std::vector<BoardView>& views,
-                           std::size_t images, const std::string& where, LensModel model) {
+                           std::size_t images, const std::string& where, LensModel model,
+                           const std::vector<ImageGray8>& view_images = {}) {
   require_views(views.size(), images, what + " in " + where);
-  const Intrinsics in = calibrate_intrinsics(views, model);
+  Intrinsics in = calibrate_intrinsics(views, model);
+  // A fisheye's domain ends at its image circle where the views show one.
+  if (model == LensModel::KannalaBrandt)
+    in.image_circle = image_circle_radius(view_images, in.fx, in.fy, in.cx, in.cy);
   print_intrinsics(what, in);
   return {in.camera(), in.views, intrinsics_json(in)};
 }
@@ -216,8 +221,8 @@ void calibrate_rig(const Options& o) {
     fisheye = fixed_side("fisheye", given.fisheye, fisheye_views, o.intrinsics);
   } else {
     rgb = calibrated_side("colour camera", rgb_views, pairs.size(), source, LensModel::Pinhole);
-    fisheye =
-        calibrated_side("fisheye", fisheye_views, pairs.size(), source, LensModel::KannalaBrandt);
+    fisheye = calibrated_side("fisheye", fisheye_views, pairs.size(), source,
+                              LensModel::KannalaBrandt, fisheye_images);
   }
 
   std::map<std::string, std::size_t> fisheye_index;
