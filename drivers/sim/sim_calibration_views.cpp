@@ -55,6 +55,20 @@ constexpr std::array kViews{
     View{View::Camera::Colour, -0.20, 0.15, 0.60, 30, -90, 10},
     View{View::Camera::Colour, 0.20, 0.15, 0.60, 30, 0, -10},
     View{View::Camera::Colour, 0.00, 0.18, 0.55, 35, 180, 0},
+    // Both again, nearer (0.50-0.60 m) and higher in the colour image, cut by its top edge:
+    // larger marker cells in the fisheye (5-6 px), whose rim they cover.
+    View{View::Camera::Colour, -0.22, -0.28, 0.55, 30, -90, 0},
+    View{View::Camera::Colour, 0.00, -0.29, 0.55, 35, -60, 12},
+    View{View::Camera::Colour, 0.22, -0.28, 0.55, 30, -120, -10},
+    View{View::Camera::Colour, -0.20, -0.26, 0.57, 25, 0, 20},
+    View{View::Camera::Colour, 0.20, -0.26, 0.57, 25, 180, -20},
+    View{View::Camera::Colour, 0.00, -0.28, 0.50, 35, -90, 0},
+    View{View::Camera::Colour, -0.24, -0.29, 0.55, 30, -30, -15},
+    View{View::Camera::Colour, 0.24, -0.29, 0.55, 30, -150, 15},
+    View{View::Camera::Colour, 0.00, -0.26, 0.60, 20, -90, 30},
+    View{View::Camera::Colour, 0.10, -0.29, 0.55, 30, 120, -25},
+    View{View::Camera::Colour, -0.10, -0.29, 0.55, 30, 60, 25},
+    View{View::Camera::Colour, 0.00, -0.28, 0.55, 15, 90, 0},
     // The fisheye alone: its centre, a ring at 35 deg and one at 65 deg all round, its rim at
     // the sides and the bottom.
     View{View::Camera::Fisheye, 0, 0, 0.45, 25, 0, 0},
