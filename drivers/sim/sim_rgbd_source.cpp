@@ -120,7 +120,7 @@ const SimRgbdSource::Metering& SimRgbdSource::meter(std::int64_t index) {
   const Pose rig = world_->rig_pose(options_.trajectory, t);
   const Pose camera = rig * geometry_.T_rig_rgb;
   const Occluder arm = world_->occluder(t, camera.translation);
-  meter_renderer_.render(camera, SimWorld::lamp_state(t), &arm, false);
+  meter_renderer_.render(camera, SimWorld::lamp_state(t), arm_in_view(options_, arm), false);
   const ImageRGBF& rad = meter_renderer_.radiance();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (std::size_t i = 0; i < rad.pixel_count(); ++i)
@@ -154,7 +154,7 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
   const Pose camera = rig * geometry_.T_rig_rgb;
   const int lamps = SimWorld::lamp_state(t);
   const Occluder arm = world_->occluder(t, camera.translation);
-  renderer_.render(camera, lamps, &arm, true);
+  renderer_.render(camera, lamps, arm_in_view(options_, arm), true);
 
   double gain;
   Eigen::Vector3d wb;

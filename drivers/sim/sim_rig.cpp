@@ -12,6 +12,7 @@
 #include "core/camera/kannala_brandt.hpp"
 #include "core/camera/ocam.hpp"
 #include "core/depth_noise.hpp"
+#include "drivers/sim/sim_calibration_views.hpp"
 #include "drivers/sim/sim_sources.hpp"
 
 namespace probeless::sim {
@@ -43,6 +44,20 @@ double parse_positive(std::string_view key, std::string_view value, double max) 
   return v;
 }
 
+// Rigs opened with the same seed share one world (building one bakes its lighting, a few
+// hundred milliseconds); it lives as long as a source uses it.
+std::shared_ptr<const SimWorld> shared_world(std::uint64_t seed, bool board) {
+  static std::mutex mutex;
+  static std::map<std::pair<std::uint64_t, bool>, std::weak_ptr<const SimWorld>> worlds;
+  std::lock_guard lock(mutex);
+  if (auto world = worlds[{seed, board}].lock()) return world;
+  auto world = std::make_shared<const SimWorld>(seed, board);
+  worlds[{seed, board}] = world;
+  return world;
+}
+
+}  // namespace
+
 // The rig: colour (and registered depth) camera at the rig origin looking forward (rig +y),
 // the fisheye 8 cm above it looking up (rig +z) with the rig's forward at the top of its image.
 Pose rgb_in_rig() {
@@ -61,20 +76,6 @@ Pose fisheye_in_rig() {
   p.translation = Eigen::Vector3d(0.0, -0.02, 0.08);
   return p;
 }
-
-// Rigs opened with the same seed share one world (building one bakes its lighting, a few
-// hundred milliseconds); it lives as long as a source uses it.
-std::shared_ptr<const SimWorld> shared_world(std::uint64_t seed, bool board) {
-  static std::mutex mutex;
-  static std::map<std::pair<std::uint64_t, bool>, std::weak_ptr<const SimWorld>> worlds;
-  std::lock_guard lock(mutex);
-  if (auto world = worlds[{seed, board}].lock()) return world;
-  auto world = std::make_shared<const SimWorld>(seed, board);
-  worlds[{seed, board}] = world;
-  return world;
-}
-
-}  // namespace
 
 SimOptions parse_sim_options(std::string_view spec) {
   SimOptions o;
@@ -99,8 +100,10 @@ SimOptions parse_sim_options(std::string_view spec) {
         o.trajectory = TrajectoryKind::Handheld;
       else if (value == "tabletop")
         o.trajectory = TrajectoryKind::Tabletop;
+      else if (value == "calibration")
+        o.trajectory = TrajectoryKind::Calibration;
       else
-        bad(key, value, "static, orbit, handheld or tabletop");
+        bad(key, value, "static, orbit, handheld, tabletop or calibration");
     } else if (key == "board") {
       o.board = parse_bool(key, value);
     } else if (key == "fps" || key == "rgbd_fps") {
@@ -246,7 +249,9 @@ Rig make_sim_rig(const SimOptions& options) {
                              k.cy,
                              k.width,
                              k.height};
-  auto world = shared_world(options.seed, options.board);
+  // The calibration views are views of the board.
+  auto world = shared_world(options.seed,
+                            options.board || options.trajectory == TrajectoryKind::Calibration);
   const TimestampNs start = monotonic_now_ns();
   auto rgbd = std::make_unique<SimRgbdSource>(world, options, geometry, start);
   auto fish = std::make_unique<SimFisheyeSource>(world, options, geometry, fisheye, start);

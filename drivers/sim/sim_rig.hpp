@@ -14,8 +14,10 @@
 namespace probeless::sim {
 
 // Tabletop: standing at the table, looking down onto it (38 degrees), swinging around the
-// anchor; the view in which the board (`board=1`) anchors the world.
-enum class TrajectoryKind { Static, Orbit, Handheld, Tabletop };
+// anchor; the view in which the board (`board=1`) anchors the world. Calibration: scripted
+// poses around the board, one per second, for `probeless calibrate` (sim_calibration_views.hpp;
+// the board is then always on and the arm stays away).
+enum class TrajectoryKind { Static, Orbit, Handheld, Tabletop, Calibration };
 
 struct SimOptions {
   std::uint64_t seed = 1;
@@ -66,10 +68,9 @@ struct SimOptions {
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
 // "sim:"); throws std::invalid_argument naming the bad key. Keys: seed, trajectory
-// (static|orbit|handheld|tabletop), fps (RGB-D), rgbd_fps, fisheye_fps, realtime, fisheye_realtime,
-// fisheye_size,
-// fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file), fisheye_ocam_model (ocam or
-// kannala_brandt: that lens fitted), frames (max_frames), stall
+// (static|orbit|handheld|tabletop|calibration), fps (RGB-D), rgbd_fps, fisheye_fps, realtime,
+// fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file),
+// fisheye_ocam_model (ocam or kannala_brandt: that lens fitted), frames (max_frames), stall
 // (BEGIN:END), truth, threads, start (seconds of world time at the first frame).
 SimOptions parse_sim_options(std::string_view spec);
 

@@ -14,6 +14,11 @@
 
 namespace probeless::sim {
 
+// The arm, or none: it stays out of the calibration views, which are of the board alone.
+inline const Occluder* arm_in_view(const SimOptions& options, const Occluder& arm) {
+  return options.trajectory == TrajectoryKind::Calibration ? nullptr : &arm;
+}
+
 // Frame index -> time and wall-clock pacing, shared by both sources' logic.
 class FramePacer {
  public:

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "drivers/sim/sim_calibration_views.hpp"
 #include "drivers/sim/sim_random.hpp"
 #include "drivers/sim/sim_scene.hpp"
 
@@ -44,6 +45,7 @@ int SimWorld::lamp_state(double t) {
 }
 
 Pose SimWorld::rig_pose(TrajectoryKind kind, double t) const {
+  if (kind == TrajectoryKind::Calibration) return calibration_rig_pose(t);
   double theta = 0;
   if (kind == TrajectoryKind::Orbit) theta = 2 * std::numbers::pi * t / kOrbitPeriod;
   if (kind == TrajectoryKind::Tabletop) {

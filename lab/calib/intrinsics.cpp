@@ -80,8 +80,10 @@ std::string lens_model_name(LensModel model) {
   return model == LensModel::Pinhole ? "pinhole" : "kannala-brandt";
 }
 
-Intrinsics calibrate_intrinsics(const std::vector<BoardView>& views, LensModel model) {
-  check_views(views);
+namespace {
+
+// One solve of OpenCV's calibration over `views`: the intrinsics and each view's fit.
+Intrinsics solve(const std::vector<BoardView>& views, LensModel model) {
   const Correspondences c = correspondences(views);
   const cv::Size size(views.front().width, views.front().height);
   cv::Mat K, D;
@@ -160,6 +162,54 @@ Intrinsics calibrate_intrinsics(const std::vector<BoardView>& views, LensModel m
     out.views.push_back(std::move(fit));
   }
   out.rms_px = std::sqrt(sum / static_cast<double>(n));
+  return out;
+}
+
+// cv::fisheye::calibrate starts each view's pose from a homography of its corners undistorted
+// by the initial guess (k = 0) onto the z = 1 plane; corners 80-95 deg off the axis land near
+// infinity there, and such a view can keep a wrong pose hundreds of pixels off while the
+// others fit to 0.1 px (measured on the sim's calibration views, docs/calibration.md "Checked
+// on the sim"). Its corners are fine: posed through the fitted model they reproject to
+// ~0.1 px. So a view this far above the others is a failed start, not a bad view.
+bool failed_start(double rms_px, double median_rms_px) {
+  return rms_px > std::max(kFailedStartMinPx, kFailedStartFactor * median_rms_px);
+}
+
+}  // namespace
+
+Intrinsics calibrate_intrinsics(const std::vector<BoardView>& views, LensModel model) {
+  check_views(views);
+  Intrinsics out = solve(views, model);
+  if (model == LensModel::KannalaBrandt) {
+    std::vector<double> rms;
+    for (const ViewFit& f : out.views) rms.push_back(f.rms_px);
+    std::nth_element(rms.begin(), rms.begin() + static_cast<long>(rms.size() / 2), rms.end());
+    const double median = rms[rms.size() / 2];
+    std::vector<BoardView> kept;
+    for (std::size_t i = 0; i < views.size(); ++i)
+      if (!failed_start(out.views[i].rms_px, median)) kept.push_back(views[i]);
+    if (kept.size() < views.size() && static_cast<int>(kept.size()) >= kMinViews) {
+      // Solve again without them, then pose them through the result (PnP on its rays).
+      const Intrinsics again = solve(kept, model);
+      const auto camera = again.camera();
+      std::vector<ViewFit> fits;
+      double sum = 0;
+      std::size_t n = 0, k = 0;
+      for (std::size_t i = 0; i < views.size(); ++i) {
+        const bool was_kept = failed_start(out.views[i].rms_px, median) == false;
+        ViewFit fit = was_kept ? again.views[k++] : fit_board_pose(*camera, views[i]);
+        fit.in_fit = was_kept;
+        if (was_kept) {
+          sum += fit.rms_px * fit.rms_px * fit.corners;
+          n += static_cast<std::size_t>(fit.corners);
+        }
+        fits.push_back(std::move(fit));
+      }
+      out = again;
+      out.views = std::move(fits);
+      out.rms_px = std::sqrt(sum / static_cast<double>(n));
+    }
+  }
 
   const double spread = out.tilt_spread_deg = tilt_spread_deg(out.views);
   if (spread < kMinTiltSpreadDeg)
@@ -203,6 +253,7 @@ double kannala_brandt_max_theta(const Intrinsics& f) {
   for (double u : {-0.5, f.width - 0.5})
     for (double v : {-0.5, f.height - 0.5})
       corner = std::max(corner, std::hypot((u - f.cx) / f.fx, (v - f.cy) / f.fy));
+  if (f.image_circle > 0) corner = std::min(corner, f.image_circle);
   constexpr double kStep = 1e-4;
   double theta = 0, theta_d = 0;
   while (theta < std::numbers::pi) {
@@ -223,15 +274,32 @@ ViewFit fit_board_pose(const CameraModel& camera, const BoardView& view) {
   if (view.width != camera.width() || view.height != camera.height())
     throw CalibrationError(fmt::format("{} is {}x{} but the camera's model is {}x{}", view.name,
                                        view.width, view.height, camera.width(), camera.height()));
-  // Rays beyond 80 deg land too far out on the z = 1 plane to weigh sensibly in PnP.
+  // PnP on the rays put on a plane facing the board: a virtual camera turned towards the
+  // corners' mean ray, so a board near a fisheye's rim (80-95 deg off its axis) is posed as
+  // well as one at its centre. Rays beyond 80 deg of that direction land too far out on the
+  // plane to weigh sensibly.
+  std::vector<Eigen::Vector3d> rays;
+  std::vector<std::size_t> index;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < view.pixels.size(); ++i)
+    if (const auto ray = camera.unproject(view.pixels[i])) {
+      rays.push_back(ray->normalized());
+      index.push_back(i);
+      mean += rays.back();
+    }
+  const Eigen::Matrix3d to_virtual =
+      mean.norm() > 0
+          ? Eigen::Quaterniond::FromTwoVectors(mean, Eigen::Vector3d::UnitZ()).toRotationMatrix()
+          : Eigen::Matrix3d::Identity();
   const double min_z = std::cos(80.0 * std::numbers::pi / 180.0);
   std::vector<cv::Point3d> points;
   std::vector<cv::Point2d> plane;
-  for (std::size_t i = 0; i < view.pixels.size(); ++i) {
-    const auto ray = camera.unproject(view.pixels[i]);
-    if (!ray || ray->z() < min_z) continue;
-    points.emplace_back(view.points[i].x(), view.points[i].y(), view.points[i].z());
-    plane.emplace_back(ray->x() / ray->z(), ray->y() / ray->z());
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    const Eigen::Vector3d r = to_virtual * rays[k];
+    if (r.z() < min_z) continue;
+    const Eigen::Vector3d& p = view.points[index[k]];
+    points.emplace_back(p.x(), p.y(), p.z());
+    plane.emplace_back(r.x() / r.z(), r.y() / r.z());
   }
   if (points.size() < 6)
     throw CalibrationError(fmt::format(
@@ -241,10 +309,12 @@ ViewFit fit_board_pose(const CameraModel& camera, const BoardView& view) {
   cv::Vec3d rvec, tvec;
   if (!cv::solvePnP(points, plane, cv::Matx33d::eye(), cv::noArray(), rvec, tvec))
     throw CalibrationError(view.name + ": no board pose found for the camera's model");
+  Pose from_virtual;
+  from_virtual.rotation = Eigen::Quaterniond(to_virtual.transpose());
   ViewFit fit;
   fit.name = view.name;
   fit.corners = static_cast<int>(view.pixels.size());
-  fit.T_camera_board = pose_from(rvec, tvec);
+  fit.T_camera_board = from_virtual * pose_from(rvec, tvec);
   const Eigen::Vector3d normal = fit.T_camera_board.rotation * Eigen::Vector3d::UnitZ();
   fit.tilt_deg = std::acos(std::min(1.0, std::abs(normal.z()))) * 180.0 / std::numbers::pi;
   double sum = 0;

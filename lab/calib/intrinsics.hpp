@@ -40,6 +40,10 @@ inline constexpr double kMinTiltSpreadDeg = 2.0;
 // fx by 0.7 % (docs/calibration.md "Results").
 inline constexpr double kWeakTiltSpreadDeg = 10.0;
 
+// A Kannala-Brandt view whose reprojection after cv::fisheye::calibrate is above both of these
+// (px; times the views' median) is solved again without it (calibrate_intrinsics).
+inline constexpr double kFailedStartMinPx = 2.0, kFailedStartFactor = 10.0;
+
 struct ViewFit {
   std::string name;
   int corners = 0;
@@ -47,6 +51,9 @@ struct ViewFit {
   double tilt_deg = 0;                       // between the board's normal and the optical axis
   Pose T_camera_board;                       // the board's pose in this view
   std::vector<Eigen::Vector2d> reprojected;  // the board's corners through the model
+  // false: left out of the intrinsics (a fisheye view whose pose cv::fisheye failed to start,
+  // posed afterwards through the fitted model; calibrate_intrinsics)
+  bool in_fit = true;
 };
 
 struct Intrinsics {
@@ -54,9 +61,12 @@ struct Intrinsics {
   int width = 0, height = 0;
   double fx = 0, fy = 0, cx = 0, cy = 0;
   std::vector<double> distortion;  // pinhole: k1 k2 p1 p2 k3; Kannala-Brandt: k1 k2 k3 k4
-  double rms_px = 0;               // over all corners of all views
+  double rms_px = 0;               // over all corners of the views in the fit
   double tilt_spread_deg = 0;      // the largest angle between two views' board normals
   std::vector<ViewFit> views;      // in the order of the views given
+  // Kannala-Brandt: the lens's image circle in focal lengths from the centre (image_circle.hpp),
+  // where the model's domain ends; 0: the image is filled, the domain ends at its corners.
+  double image_circle = 0;
   // The model as core/camera has it (PinholeCamera or KannalaBrandtCamera).
   std::shared_ptr<const CameraModel> camera() const;
   PinholeCamera pinhole() const;  // model == Pinhole
@@ -75,7 +85,8 @@ Intrinsics calibrate_intrinsics(const std::vector<BoardView>& views, LensModel m
 ViewFit fit_board_pose(const CameraModel& camera, const BoardView& view);
 
 // The largest angle from the axis the fitted Kannala-Brandt polynomial is valid to: where the
-// farthest image corner lies, or earlier where theta_d(theta) stops increasing.
+// image circle ends (Intrinsics::image_circle, else the farthest image corner), or earlier
+// where theta_d(theta) stops increasing.
 double kannala_brandt_max_theta(const Intrinsics& fisheye);
 
 }  // namespace probeless::calib

@@ -14,6 +14,7 @@
 #include "drivers/replay/calibration_file.hpp"
 #include "lab/calib/board_detector.hpp"
 #include "lab/calib/camera_toml.hpp"
+#include "lab/calib/image_circle.hpp"
 #include "lab/calib/intrinsics.hpp"
 #include "lab/calib/rig_extrinsics.hpp"
 #include "lab/calib/view_image.hpp"
@@ -44,8 +45,11 @@ std::string found_text(const std::optional<BoardView>& v, const BoardDetector& d
 nlohmann::json intrinsics_json(const Intrinsics& in) {
   nlohmann::json views = nlohmann::json::array();
   for (const ViewFit& v : in.views)
-    views.push_back(
-        {{"file", v.name}, {"rms_px", v.rms_px}, {"corners", v.corners}, {"tilt_deg", v.tilt_deg}});
+    views.push_back({{"file", v.name},
+                     {"rms_px", v.rms_px},
+                     {"corners", v.corners},
+                     {"tilt_deg", v.tilt_deg},
+                     {"used", v.in_fit}});
   return {{"model", lens_model_name(in.model)},
           {"width", in.width},
           {"height", in.height},
@@ -56,7 +60,8 @@ nlohmann::json intrinsics_json(const Intrinsics& in) {
           {"distortion", in.distortion},
           {"rms_px", in.rms_px},
           {"tilt_spread_deg", in.tilt_spread_deg},
-          {"views_used", in.views.size()},
+          {"views_used", std::count_if(in.views.begin(), in.views.end(),
+                                       [](const ViewFit& v) { return v.in_fit; })},
           {"views", views}};
 }
 
@@ -105,9 +110,13 @@ struct CameraSide {
 };
 
 CameraSide calibrated_side(const std::string& what, const std::vector<BoardView>& views,
-                           std::size_t images, const std::string& where, LensModel model) {
+                           std::size_t images, const std::string& where, LensModel model,
+                           const std::vector<ImageGray8>& view_images = {}) {
   require_views(views.size(), images, what + " in " + where);
-  const Intrinsics in = calibrate_intrinsics(views, model);
+  Intrinsics in = calibrate_intrinsics(views, model);
+  // A fisheye's domain ends at its image circle where the views show one.
+  if (model == LensModel::KannalaBrandt)
+    in.image_circle = image_circle_radius(view_images, in.fx, in.fy, in.cx, in.cy);
   print_intrinsics(what, in);
   return {in.camera(), in.views, intrinsics_json(in)};
 }
@@ -212,8 +221,8 @@ void calibrate_rig(const Options& o) {
     fisheye = fixed_side("fisheye", given.fisheye, fisheye_views, o.intrinsics);
   } else {
     rgb = calibrated_side("colour camera", rgb_views, pairs.size(), source, LensModel::Pinhole);
-    fisheye =
-        calibrated_side("fisheye", fisheye_views, pairs.size(), source, LensModel::KannalaBrandt);
+    fisheye = calibrated_side("fisheye", fisheye_views, pairs.size(), source,
+                              LensModel::KannalaBrandt, fisheye_images);
   }
 
   std::map<std::string, std::size_t> fisheye_index;

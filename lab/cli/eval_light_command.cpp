@@ -7,6 +7,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "core/error.hpp"
 #include "lab/cli/lab_commands.hpp"
 #include "lab/eval/light_eval.hpp"
 
@@ -68,6 +69,8 @@ void run(Options& o) {
     r = light::evaluate_light_sim(o.eval);
   } catch (const std::invalid_argument& e) {
     throw CommandError(e.what());
+  } catch (const ParseError& e) {  // a --calibration file that does not load
+    throw CommandError(std::string("eval light: --calibration: ") + e.what());
   }
   std::cout << fmt::format(
       "eval light: {} fisheye frames ({} s of sim time), rule {}, {} keyframe(s); keyframe "
@@ -87,22 +90,25 @@ void run(Options& o) {
       "  per frame: p50 {:.2f} ms, p99 {:.2f} ms; exposures settled after {} cycles\n",
       r.total.p50_ms, r.total.p99_ms, r.settle_cycles);
   if (!o.json.empty()) {
-    const nlohmann::json j{{"frames", r.frames},
-                           {"seconds", o.eval.seconds},
-                           {"rule", r.rule},
-                           {"keyframes", r.keyframes},
-                           {"keyframe_id", r.keyframe_id},
-                           {"keyframe_distance_m", r.keyframe_distance_m},
-                           {"radiance_scale", r.scale},
-                           {"settle_cycles", r.settle_cycles},
-                           {"parallax", r.room_box ? "room_box" : "off"},
-                           {"at_probe", comparison_json(r.at_probe)},
-                           {"at_probe_unreprojected", comparison_json(r.at_probe_unreprojected)},
-                           {"at_keyframe", comparison_json(r.at_keyframe)},
-                           {"at_last_capture", comparison_json(r.at_last_capture)},
-                           {"keyframe_to_last_capture_m", r.keyframe_to_last_capture_m},
-                           {"p50_ms", r.total.p50_ms},
-                           {"p99_ms", r.total.p99_ms}};
+    const nlohmann::json j{
+        {"frames", r.frames},
+        {"calibration",
+         o.eval.calibration_file.empty() ? std::string("sim") : o.eval.calibration_file},
+        {"seconds", o.eval.seconds},
+        {"rule", r.rule},
+        {"keyframes", r.keyframes},
+        {"keyframe_id", r.keyframe_id},
+        {"keyframe_distance_m", r.keyframe_distance_m},
+        {"radiance_scale", r.scale},
+        {"settle_cycles", r.settle_cycles},
+        {"parallax", r.room_box ? "room_box" : "off"},
+        {"at_probe", comparison_json(r.at_probe)},
+        {"at_probe_unreprojected", comparison_json(r.at_probe_unreprojected)},
+        {"at_keyframe", comparison_json(r.at_keyframe)},
+        {"at_last_capture", comparison_json(r.at_last_capture)},
+        {"keyframe_to_last_capture_m", r.keyframe_to_last_capture_m},
+        {"p50_ms", r.total.p50_ms},
+        {"p99_ms", r.total.p99_ms}};
     write_json_report(o.json, j);
   }
 }
@@ -123,6 +129,9 @@ void add_eval_light_command(CLI::App& eval) {
       ->capture_default_str();
   cmd->add_option("--face-size", o->eval.estimator.keyframes.face_size, "Keyframe face size")
       ->capture_default_str();
+  cmd->add_option("--calibration", o->eval.calibration_file,
+                  "Run light capture with this rig calibration TOML (e.g. from probeless "
+                  "calibrate) instead of the sim's true one");
   cmd->add_option("--json", o->json, "Write the report as JSON");
   cmd->add_option("--dump", o->eval.dump_dir,
                   "Write DIR/compare.png: keyframe | truth there, reprojected to the object | "

@@ -1,5 +1,6 @@
 #include "lab/eval/light_eval.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include "core/exposure_count.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 #include "drivers/io/png.hpp"
+#include "drivers/replay/calibration_file.hpp"
 #include "drivers/sim/sim_renderer.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "drivers/sim/sim_world.hpp"
@@ -208,11 +210,28 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
       "realtime=0,trajectory=orbit" + (o.sim_spec.empty() ? std::string() : "," + o.sim_spec);
   const sim::SimOptions sim_options = sim::parse_sim_options(spec);
   Rig rig = sim::make_sim_rig(sim_options);
+  // The calibration light capture uses, and the pose that takes the sim's rig frame (in which
+  // the truth trajectory is) to its rig frame: through the colour camera, which tracking sees.
+  RigCalibration calibration = rig.calibration;
+  Pose sim_rig_to_calibration_rig;
+  if (!o.calibration_file.empty()) {
+    calibration = replay::load_rig_calibration(o.calibration_file);
+    if (!calibration.fisheye)
+      throw std::invalid_argument("eval light: " + o.calibration_file + " has no [fisheye]");
+    const CameraModel& truth = *rig.calibration.fisheye;
+    if (calibration.fisheye->width() != truth.width() ||
+        calibration.fisheye->height() != truth.height())
+      throw std::invalid_argument(fmt::format(
+          "eval light: {}'s fisheye is {}x{} but the sim's is {}x{} (set --sim fisheye_size)",
+          o.calibration_file, calibration.fisheye->width(), calibration.fisheye->height(),
+          truth.width(), truth.height()));
+    sim_rig_to_calibration_rig = rig.calibration.T_rig_rgb * calibration.T_rig_rgb.inverse();
+  }
 
   ComputeContext ctx;
   LightEstimatorConfig config = o.estimator;
   if (o.room_box) config.room = rig.scene.room;
-  LightEstimator estimator(ctx, *rig.calibration.fisheye, rig.calibration.T_rig_fisheye, config);
+  LightEstimator estimator(ctx, *calibration.fisheye, calibration.T_rig_fisheye, config);
   BracketSequencer sequencer;
   Trajectory trajectory;  // from the RGB-D stream's truth, as tracking would deliver it
   const auto timeout = std::chrono::milliseconds(5000);
@@ -231,7 +250,7 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
       if (rig.rgbd->read(rgbd, timeout) != ReadResult::Frame || !rgbd.truth ||
           !rgbd.truth->rig_pose)
         throw std::runtime_error("eval light: the sim's RGB-D stream stopped or has no truth");
-      trajectory.append(rgbd.timestamp_ns, *rgbd.truth->rig_pose);
+      trajectory.append(rgbd.timestamp_ns, *rgbd.truth->rig_pose * sim_rig_to_calibration_rig);
     }
     if (!estimator.process(frame, trajectory))
       throw std::runtime_error("eval light: no rig pose at a fisheye timestamp");
@@ -310,7 +329,7 @@ LightEvalReport evaluate_light_sim(const LightEvalOptions& o) {
       compare(est_keyframe, truth_keyframe, "the room rendered from the keyframe's position");
 
   const Eigen::Vector3d last_capture =
-      (*trajectory.at(frame.timestamp_ns) * rig.calibration.T_rig_fisheye).translation;
+      (*trajectory.at(frame.timestamp_ns) * calibration.T_rig_fisheye).translation;
   report.keyframe_to_last_capture_m = (last_capture - keyframe->position).norm();
   const envmap::ImageRGBAF truth_last =
       average_observed(render_truth_cubemap(world, last_capture, lamps, n), m, all_observed);

@@ -24,6 +24,12 @@ struct LightEvalOptions {
   // keyframe reprojected to the object and the truth there, the same at the last capture;
   // faces top to bottom in GL order, log-scaled; unobserved texels darkened.
   std::string dump_dir;
+  // Non-empty: light capture runs with this rig calibration (a TOML `probeless calibrate`
+  // wrote) instead of the sim's true one: its fisheye model and its fisheye pose, placed in the
+  // sim's rig through its colour camera (what tracking observes), so errors in the recovered
+  // extrinsics reach the capture as they would on a real rig. Its fisheye must have the sim's
+  // frame size.
+  std::string calibration_file;
 };
 
 struct FaceError {
