@@ -15,6 +15,25 @@
 namespace probeless {
 namespace {
 
+// Basic authentication for the one mount: the credentials give the role "viewer", which may
+// open and play the media; a request without them gets 401 and a challenge (no default token,
+// so anonymous clients have no role).
+void require_basic_auth(GstRTSPServer* server, GstRTSPMediaFactory* factory,
+                        const std::string& user, const std::string& password) {
+  GstRTSPAuth* auth = gst_rtsp_auth_new();
+  GstRTSPToken* token =
+      gst_rtsp_token_new(GST_RTSP_TOKEN_MEDIA_FACTORY_ROLE, G_TYPE_STRING, "viewer", nullptr);
+  gchar* basic = gst_rtsp_auth_make_basic(user.c_str(), password.c_str());
+  gst_rtsp_auth_add_basic(auth, basic, token);
+  g_free(basic);
+  gst_rtsp_token_unref(token);
+  gst_rtsp_server_set_auth(server, auth);
+  g_object_unref(auth);
+  gst_rtsp_media_factory_add_role(factory, "viewer", GST_RTSP_PERM_MEDIA_FACTORY_ACCESS,
+                                  G_TYPE_BOOLEAN, TRUE, GST_RTSP_PERM_MEDIA_FACTORY_CONSTRUCT,
+                                  G_TYPE_BOOLEAN, TRUE, nullptr);
+}
+
 using Server = gst::Ref<GstRTSPServer, g_object_unref>;
 using MediaFactory = gst::Ref<GstRTSPMediaFactory, g_object_unref>;
 using MountPoints = gst::Ref<GstRTSPMountPoints, g_object_unref>;
@@ -212,6 +231,11 @@ RtspServer::RtspServer(RtspServerConfig config) : impl_(std::make_unique<Impl>()
   m.server = Server::adopt(gst_rtsp_server_new());
   gst_rtsp_server_set_address(m.server.get(), c.address.c_str());
   gst_rtsp_server_set_service(m.server.get(), std::to_string(c.port).c_str());
+  {
+    auto sessions = SessionPool::adopt(gst_rtsp_server_get_session_pool(m.server.get()));
+    gst_rtsp_session_pool_set_max_sessions(sessions.get(), static_cast<guint>(c.max_sessions));
+  }
+  if (!c.user.empty()) require_basic_auth(m.server.get(), m.factory.get(), c.user, c.password);
   {
     auto mounts = MountPoints::adopt(gst_rtsp_server_get_mount_points(m.server.get()));
     gst_rtsp_mount_points_add_factory(

@@ -42,6 +42,13 @@ struct RtspServerConfig {
   std::string encoder = "auto";
   // Frames waiting in the appsrc before new ones are dropped: the encoder is behind.
   int max_queued_frames = 2;
+  // RTSP basic authentication when both are set (RFC 2326 reuses HTTP's; every player asks
+  // for rtsp://user:password@host/...): without them any client on the address may watch.
+  std::string user, password;
+  // Sessions at once (gst-rtsp-server's session pool); a SETUP beyond gets 503. 0: no cap.
+  // Each session of a shared media costs a payloader branch, not an encoder: 16 is an SBC's
+  // uplink at 2 Mbit/s long before its CPU.
+  int max_sessions = 16;
 };
 
 struct RtspServerStats {

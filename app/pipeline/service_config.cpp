@@ -191,7 +191,15 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   if (auto* t = r.optional_table(root, "rtsp")) {
     r.only(*t, "[rtsp]",
            {"enabled", "address", "port", "path", "bitrate_kbps", "keyframe_interval", "framerate",
-            "encoder"});
+            "encoder", "user", "password", "max_sessions"});
+    r.get(*t, "user", c.rtsp.user);
+    r.get(*t, "password", c.rtsp.password);
+    r.get(*t, "max_sessions", c.rtsp.max_sessions);
+    if (c.rtsp.user.empty() != c.rtsp.password.empty())
+      r.fail(t->get(c.rtsp.user.empty() ? "password" : "user"),
+             "user and password go together (RTSP basic authentication)");
+    if (c.rtsp.max_sessions < 0)
+      r.fail(t->get("max_sessions"), "max_sessions must be >= 0 (0: no cap)");
     r.get(*t, "enabled", c.rtsp.enabled);
     r.get(*t, "address", c.rtsp.address);
     r.get(*t, "port", c.rtsp.port);

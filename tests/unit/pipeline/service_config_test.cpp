@@ -285,3 +285,21 @@ TEST(ServiceConfig, HttpAccessKeys) {
 
 }  // namespace
 }  // namespace probeless
+
+namespace probeless {
+namespace {
+
+TEST(ServiceConfig, RtspAccessKeys) {
+  const ServiceConfig c = parse_service_config(
+      "[rtsp]\nuser = \"viewer\"\npassword = \"s3cret\"\nmax_sessions = 4\n");
+  EXPECT_EQ(c.rtsp.user, "viewer");
+  EXPECT_EQ(c.rtsp.password, "s3cret");
+  EXPECT_EQ(c.rtsp.max_sessions, 4);
+  EXPECT_EQ(parse_service_config("").rtsp.max_sessions, 16);
+  EXPECT_THROW(parse_service_config("[rtsp]\nuser = \"viewer\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[rtsp]\npassword = \"x\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[rtsp]\nmax_sessions = -1\n"), ParseError);
+}
+
+}  // namespace
+}  // namespace probeless
