@@ -97,5 +97,31 @@ TEST(ReaderLimits, OpenExrHeaderWithoutChunks) {
   EXPECT_EQ(read_hdr_capped(good), "");
 }
 
+// Found by the exr fuzz target: OpenEXR allocated a header attribute at the size the file
+// claims (1.6 GB from 297 bytes) before reading it. A comment attribute claiming 1.5 GB in a
+// file of a few hundred bytes is refused before OpenEXR sees the file.
+TEST(ReaderLimits, OpenExrAttributeLargerThanTheFile) {
+  const auto good = testing::scratch_dir() / "small_for_attribute.exr";
+  write_hdr_image(good, ImageRGBF(2, 2, 0.5f));
+  std::string bytes(std::filesystem::file_size(good), '\0');
+  std::ifstream(good, std::ios::binary)
+      .read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  // A first attribute after the 8-byte magic and version: name, type, size, no value.
+  const std::int32_t claimed = 1'500'000'000;
+  std::string attribute("comments\0string\0", 16);
+  attribute.append(reinterpret_cast<const char*>(&claimed), 4);  // little-endian host
+  bytes.insert(8, attribute);
+  const std::string what = read_hdr_capped(write_file("attribute.exr", bytes));
+  EXPECT_NE(what.find("attribute.exr: OpenEXR: attribute 'comments' of 1500000000 bytes, but "),
+            std::string::npos)
+      << what;
+  // A negative size is refused the same way; the file itself still reads.
+  const std::int32_t negative = -5;
+  bytes.replace(8 + 16, 4, reinterpret_cast<const char*>(&negative), 4);
+  EXPECT_NE(read_hdr_capped(write_file("negative.exr", bytes)).find("of -5 bytes"),
+            std::string::npos);
+  EXPECT_EQ(read_hdr_capped(good), "");
+}
+
 }  // namespace
 }  // namespace probeless
