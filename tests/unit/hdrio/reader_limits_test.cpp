@@ -123,5 +123,18 @@ TEST(ReaderLimits, OpenExrAttributeLargerThanTheFile) {
   EXPECT_EQ(read_hdr_capped(good), "");
 }
 
+// The fuzz target's inputs themselves (tests/fuzz/corpus/exr/crash-*): a 297-byte file whose
+// header made OpenEXR allocate 1.6 GB, and one whose channel list, read by OpenEXR past its
+// declared size, put a 1.9 GB opaque attribute where a size walk saw none.
+TEST(ReaderLimits, OpenExrFuzzFindingsAreRefusedBeforeAllocating) {
+  const std::filesystem::path corpus =
+      std::filesystem::path(PROBELESS_TEST_SOURCE_DIR) / "../../fuzz/corpus/exr";
+  for (const char* name :
+       {"crash-opaque-attribute-1.6GB.exr", "crash-chlist-then-opaque-1.9GB.exr"}) {
+    const std::string what = read_hdr_capped(corpus / name);
+    EXPECT_NE(what.find(std::string(name) + ": OpenEXR: bad header"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace probeless
