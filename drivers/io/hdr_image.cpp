@@ -119,7 +119,8 @@ void check_openexr_headers(const std::filesystem::path& path) {
   init.error_handler_fn = no_error_printing;
   init.max_image_width = init.max_image_height = static_cast<int>(read_limits::kMaxImageSide);
   init.max_tile_width = init.max_tile_height = static_cast<int>(read_limits::kMaxImageSide);
-  init.flags = EXR_CONTEXT_FLAG_SILENT_HEADER_PARSE;
+  // Strict: without it the core reports a size that does not fit the type and goes on.
+  init.flags = EXR_CONTEXT_FLAG_STRICT_HEADER | EXR_CONTEXT_FLAG_SILENT_HEADER_PARSE;
   exr_context_t context = nullptr;
   const exr_result_t result = exr_start_read(&context, path.c_str(), &init);
   exr_finish(&context);

@@ -60,7 +60,18 @@ void exchange(int port, std::string_view request) {
   // out after 30 s (connect: EADDRNOTAVAIL).
   const linger reset{1, 0};
   setsockopt(fd, SOL_SOCKET, SO_LINGER, &reset, sizeof reset);
-  if (connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+  int connected = connect(fd, reinterpret_cast<const sockaddr*>(&addr), sizeof addr);
+  if (connected != 0 && errno == EINTR) {  // libFuzzer's SIGALRM: the connect goes on
+    pollfd p{fd, POLLOUT, 0};
+    while (poll(&p, 1, 1000) < 0 && errno == EINTR) {
+    }
+    int error = 0;
+    socklen_t length = sizeof error;
+    getsockopt(fd, SOL_SOCKET, SO_ERROR, &error, &length);
+    connected = error == 0 ? 0 : -1;
+    errno = error;
+  }
+  if (connected != 0) {
     const int error = errno;
     close(fd);
     throw std::logic_error(std::string("connect to the fuzzed server failed: ") +
@@ -69,6 +80,7 @@ void exchange(int port, std::string_view request) {
   std::size_t sent = 0;
   while (sent < request.size()) {
     const ssize_t n = send(fd, request.data() + sent, request.size() - sent, MSG_NOSIGNAL);
+    if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;  // the server may close before reading everything (a bad request)
     sent += static_cast<std::size_t>(n);
   }
@@ -78,8 +90,11 @@ void exchange(int port, std::string_view request) {
   std::string_view head;
   for (;;) {
     pollfd p{fd, POLLIN, 0};
-    if (poll(&p, 1, 100) <= 0) break;
+    const int ready = poll(&p, 1, 100);
+    if (ready < 0 && errno == EINTR) continue;
+    if (ready <= 0) break;
     const ssize_t n = recv(fd, buffer, sizeof buffer, 0);
+    if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;
     if (received == 0) head = std::string_view(buffer, static_cast<std::size_t>(n)).substr(0, 40);
     received += static_cast<std::size_t>(n);
