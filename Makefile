@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 BUILD := build/$(PRESET)
 PROBELESS := $(BUILD)/app/probeless
 
-.PHONY: all setup configure build test test-asan demo bench package format clean
+.PHONY: all setup configure build test test-asan fuzz demo bench package format clean
 
 all: build
 
@@ -25,6 +25,16 @@ test: build
 
 test-asan:
 	$(MAKE) test PRESET=asan
+
+# The libFuzzer targets of tests/fuzz/ (clang, ASan + UBSan; docs/security.md "Fuzzing"),
+# each run for FUZZ_SECONDS; FUZZ_TARGETS="png gltf" runs some only. Inputs that fail are
+# left in build/fuzz/crashes/<name>/, and the target fails.
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS ?=
+fuzz:
+	cmake --preset fuzz
+	cmake --build --preset fuzz -j $(JOBS)
+	tests/fuzz/run_fuzz.sh build/fuzz $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 
 demo: build
 	$(PROBELESS) run

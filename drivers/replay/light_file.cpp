@@ -1,6 +1,7 @@
 #include "drivers/replay/light_file.hpp"
 
 #include <bit>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -23,8 +24,8 @@ void write_light_cubemap(const std::filesystem::path& path, const Cubemap& cubem
   if (n <= 0) throw ImageFileError(path, "cannot write an empty cubemap");
   for (const auto& face : cubemap.faces) {
     if (face.width() != n || face.height() != n) {
-      throw ImageFileError(path, "cubemap faces are not " + std::to_string(n) + "x" +
-                                     std::to_string(n));
+      throw ImageFileError(path,
+                           "cubemap faces are not " + std::to_string(n) + "x" + std::to_string(n));
     }
   }
   std::filesystem::path tmp = path;
@@ -68,12 +69,25 @@ Cubemap read_light_cubemap(const std::filesystem::path& path) {
   if (in.get() != '\n') throw ImageFileError(path, "bad PFM header (no newline after scale)");
   if (width <= 0 || width > kMaxFaceSize || height != 6 * width || scale == 0) {
     throw ImageFileError(path, "not a light cubemap: " + std::to_string(width) + "x" +
-                                   std::to_string(height) + " (expected N x 6N, N <= " +
-                                   std::to_string(kMaxFaceSize) + ")");
+                                   std::to_string(height) +
+                                   " (expected N x 6N, N <= " + std::to_string(kMaxFaceSize) + ")");
   }
   const bool file_little = scale < 0;
   const bool swap = file_little != (std::endian::native == std::endian::little);
   const int n = static_cast<int>(width);
+  // The faces (up to 1.2 GB at the largest N) are allocated only once the file is seen to
+  // hold their data: a 20-byte header claiming N = 4096 took 1.2 GB before "truncated"
+  // (found by tests/fuzz light_cubemap).
+  const std::int64_t bytes = std::int64_t{6} * n * n * 3 * static_cast<std::int64_t>(sizeof(float));
+  const std::streamoff data_start = in.tellg();
+  if (data_start >= 0 && in.seekg(0, std::ios::end)) {
+    const std::streamoff left = in.tellg() - data_start;
+    in.seekg(data_start);
+    if (left < bytes)
+      throw ImageFileError(path, "truncated PFM (" + std::to_string(left) + " of " +
+                                     std::to_string(bytes) + " bytes of image data)");
+  }
+  in.clear();
   Cubemap cubemap(n);
   std::vector<std::uint32_t> row(static_cast<std::size_t>(n) * 3);
   for (int face = 5; face >= 0; --face) {

@@ -97,5 +97,45 @@ TEST(ReaderLimits, OpenExrHeaderWithoutChunks) {
   EXPECT_EQ(read_hdr_capped(good), "");
 }
 
+// Found by the exr fuzz target: OpenEXR allocated a header attribute at the size the file
+// claims (1.6 GB from 297 bytes) before reading it. A comment attribute claiming 1.5 GB in a
+// file of a few hundred bytes is refused before OpenEXR sees the file.
+TEST(ReaderLimits, OpenExrAttributeLargerThanTheFile) {
+  const auto good = testing::scratch_dir() / "small_for_attribute.exr";
+  write_hdr_image(good, ImageRGBF(2, 2, 0.5f));
+  std::string bytes(std::filesystem::file_size(good), '\0');
+  std::ifstream(good, std::ios::binary)
+      .read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  // A first attribute after the 8-byte magic and version: name, type, size, no value.
+  const std::int32_t claimed = 1'500'000'000;
+  std::string attribute("comments\0string\0", 16);
+  attribute.append(reinterpret_cast<const char*>(&claimed), 4);  // little-endian host
+  bytes.insert(8, attribute);
+  // Refused as a bad header (OpenEXR's core, strict) before the C++ reader allocates it.
+  const std::string what = read_hdr_capped(write_file("attribute.exr", bytes));
+  EXPECT_NE(what.find("attribute.exr: OpenEXR: bad header"), std::string::npos) << what;
+  // A negative size is refused the same way; the file itself still reads.
+  const std::int32_t negative = -5;
+  bytes.replace(8 + 16, 4, reinterpret_cast<const char*>(&negative), 4);
+  const std::string what_negative = read_hdr_capped(write_file("negative.exr", bytes));
+  EXPECT_NE(what_negative.find("negative.exr: OpenEXR: bad header"), std::string::npos)
+      << what_negative;
+  EXPECT_EQ(read_hdr_capped(good), "");
+}
+
+// The fuzz target's inputs themselves (tests/fuzz/corpus/exr/crash-*): a 297-byte file whose
+// header made OpenEXR allocate 1.6 GB, and one whose channel list, read by OpenEXR past its
+// declared size, put a 1.9 GB opaque attribute where a size walk saw none, and one whose
+// displayWindow of 24 bytes (a box2i is 16) did the same with 1 GB past a lenient header check.
+TEST(ReaderLimits, OpenExrFuzzFindingsAreRefusedBeforeAllocating) {
+  const std::filesystem::path corpus =
+      std::filesystem::path(PROBELESS_TEST_SOURCE_DIR) / "../../fuzz/corpus/exr";
+  for (const char* name : {"crash-opaque-attribute-1.6GB.exr", "crash-chlist-then-opaque-1.9GB.exr",
+                           "crash-display-window-size-1GB.exr"}) {
+    const std::string what = read_hdr_capped(corpus / name);
+    EXPECT_NE(what.find(std::string(name) + ": OpenEXR: bad header"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace probeless
