@@ -272,8 +272,8 @@ __kernel void select_points(__global const float* intensity, __global const floa
   const float zl = depth_m[i - 1], zr = depth_m[i + 1], zu = depth_m[i - width],
               zd = depth_m[i + width];
   const float step = NORMAL_MAX_DEPTH_STEP * z;
-  if (!(zl > 0.0f) || fabs(zl - z) > step || !(zr > 0.0f) || fabs(zr - z) > step ||
-      !(zu > 0.0f) || fabs(zu - z) > step || !(zd > 0.0f) || fabs(zd - z) > step)
+  if (!(zl > 0.0f) || fabs(zl - z) > step || !(zr > 0.0f) || fabs(zr - z) > step || !(zu > 0.0f) ||
+      fabs(zu - z) > step || !(zd > 0.0f) || fabs(zd - z) > step)
     return;
   const float3 dx = backproject((float)(best_x + 1), (float)best_y, zr, k) -
                     backproject((float)(best_x - 1), (float)best_y, zl, k);
@@ -283,8 +283,8 @@ __kernel void select_points(__global const float* intensity, __global const floa
   const float len = sqrt(n.x * n.x + n.y * n.y + n.z * n.z);
   if (!(len > 0.0f)) return;
   n /= len;
-  const float cosine = (n.x * p.x + n.y * p.y + n.z * p.z) /
-                       sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+  const float cosine =
+      (n.x * p.x + n.y * p.y + n.z * p.z) / sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
   if (cosine > 0.0f) n = -n;
   if (!(fabs(cosine) >= NORMAL_MIN_COS)) return;
   const float3 pn = cross(p, n);

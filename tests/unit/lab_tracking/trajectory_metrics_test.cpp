@@ -108,7 +108,8 @@ TEST(Rpe, RotationDriftOfTwoDegreesPerSecond) {
   for (int i = 0; i <= 90; ++i) {
     const double t = i / 30.0;
     frames.push_back({static_cast<TimestampNs>(std::llround(t * 1e9)),
-                      make_pose({0, 0, 12 * kDeg * t}, kZero), make_pose({0, 0, 10 * kDeg * t}, kZero)});
+                      make_pose({0, 0, 12 * kDeg * t}, kZero),
+                      make_pose({0, 0, 10 * kDeg * t}, kZero)});
   }
   const auto rpe = relative_pose_error(frames, 1.0);
   ASSERT_TRUE(rpe);
@@ -130,7 +131,8 @@ TEST(Registration, ACentimetreSidewaysAtTwoMetres) {
   // point 2 m ahead then appears fx * 0.01 / 2 = 2.625 px to the left.
   const PinholeIntrinsics k;                                  // 640x480, f 525
   const Pose world = make_pose({0.3, 0.1, -0.2}, {1, 2, 3});  // the first pose is arbitrary
-  std::vector<PosePair> frames{{0, world, world}, {1, world * make_pose(kZero, {0.01, 0, 0}), world}};
+  std::vector<PosePair> frames{{0, world, world},
+                               {1, world * make_pose(kZero, {0.01, 0, 0}), world}};
   const auto px = registration_px(frames, k, {0, 0, 2.0});
   ASSERT_EQ(px.size(), 2u);
   EXPECT_NEAR(px[0], 0.0, 1e-9);

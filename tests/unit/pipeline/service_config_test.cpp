@@ -290,8 +290,8 @@ namespace probeless {
 namespace {
 
 TEST(ServiceConfig, RtspAccessKeys) {
-  const ServiceConfig c = parse_service_config(
-      "[rtsp]\nuser = \"viewer\"\npassword = \"s3cret\"\nmax_sessions = 4\n");
+  const ServiceConfig c =
+      parse_service_config("[rtsp]\nuser = \"viewer\"\npassword = \"s3cret\"\nmax_sessions = 4\n");
   EXPECT_EQ(c.rtsp.user, "viewer");
   EXPECT_EQ(c.rtsp.password, "s3cret");
   EXPECT_EQ(c.rtsp.max_sessions, 4);
