@@ -132,16 +132,11 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   if (auto* t = r.optional_table(root, "tracking")) {
     r.only(*t, "[tracking]",
            {"method", "min_depth_m", "max_depth_m", "device", "rolling_shutter_readout_s"});
-    r.get(*t, "rolling_shutter_readout_s", c.tracking.rolling_shutter_readout_s);
-    if (!(c.tracking.rolling_shutter_readout_s >= 0 && c.tracking.rolling_shutter_readout_s < 0.1))
-      r.fail(t->get("rolling_shutter_readout_s"),
-             "rolling_shutter_readout_s must be in [0, 0.1) seconds");
-    r.get(*t, "device", c.tracking.device);
-    if (c.tracking.device != "cpu" && c.tracking.device != "opencl")
-      r.fail(t->get("device"), "device '" + c.tracking.device + "' is not \"cpu\" or \"opencl\"");
     r.get(*t, "method", c.tracking.method);
     r.get(*t, "min_depth_m", c.tracking.min_depth_m);
     r.get(*t, "max_depth_m", c.tracking.max_depth_m);
+    r.get(*t, "device", c.tracking.device);
+    r.get(*t, "rolling_shutter_readout_s", c.tracking.rolling_shutter_readout_s);
     static const std::set<std::string> methods{"dense", "truth", "off"};
     if (!methods.contains(c.tracking.method))
       r.fail(t->get("method"),
@@ -150,6 +145,11 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
           c.tracking.max_depth_m <= 20))
       r.fail(t->get("max_depth_m") ? t->get("max_depth_m") : t->get("min_depth_m"),
              "depth range must satisfy 0 < min_depth_m < max_depth_m <= 20");
+    if (c.tracking.device != "cpu" && c.tracking.device != "opencl")
+      r.fail(t->get("device"), "device '" + c.tracking.device + "' is not \"cpu\" or \"opencl\"");
+    if (!(c.tracking.rolling_shutter_readout_s >= 0 && c.tracking.rolling_shutter_readout_s < 0.1))
+      r.fail(t->get("rolling_shutter_readout_s"),
+             "rolling_shutter_readout_s must be in [0, 0.1) seconds");
   }
   if (auto* t = r.optional_table(root, "world")) {
     r.only(*t, "[world]", {"anchor", "marker", "max_step_mm", "floor_max_tilt_deg"});

@@ -71,13 +71,7 @@ std::string load_average() {
 }
 
 fs::path default_scene() {
-  const char* env = std::getenv("PROBELESS_DATA");
-  for (const char* base : {env, "../shared/data", "../../shared/data"}) {
-    if (!base || !*base) continue;
-    const fs::path p = fs::path(base) / "middlebury/2014q/Adirondack";
-    if (fs::exists(p / "im0.png")) return p;
-  }
-  return {};
+  return find_shared_data("middlebury/2014q/Adirondack", "im0.png");
 }
 
 // A synthetic stand-in when no Middlebury data is present: textured wall at 2.2 m, a box and

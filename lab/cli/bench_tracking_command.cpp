@@ -65,13 +65,8 @@ MethodTiming time_method(eval::TrackingMethod& method,
 
 // The shared data's fr1/rpy when it is there (real Kinect frames), else the sim's orbit.
 std::string default_dataset() {
-  const char* env = std::getenv("PROBELESS_DATA");
-  for (const char* base : {env, "../shared/data", "../../shared/data"}) {
-    if (!base || !*base) continue;
-    const auto dir = std::filesystem::path(base) / "rgbd/tum_fr1_rpy";
-    if (std::filesystem::exists(dir / "rgb.txt")) return "tum:" + dir.string();
-  }
-  return "sim";
+  const auto dir = find_shared_data("rgbd/tum_fr1_rpy", "rgb.txt");
+  return dir.empty() ? "sim" : "tum:" + dir.string();
 }
 
 void run(const Options& o) {

@@ -2,6 +2,7 @@
 // The lab's commands (docs/architecture.md "The lab"): evaluations against ground truth and
 // benchmarks. They run as `probeless eval ...` / `probeless bench ...`: the appliance binary
 // hands those to the lab binary (app/cli/lab_dispatch.hpp), which registers them here.
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -12,6 +13,12 @@ namespace probeless::cli {
 // Writes a command's `--json` report (indented, as scripts read it); throws CommandError when
 // the file cannot be written.
 void write_json_report(const std::string& path, const nlohmann::json& report);
+
+// `relative` under the third-party data (../shared/data/README.md) when `relative / probe`
+// exists there: $PROBELESS_DATA, else ../shared/data or ../../shared/data from the working
+// directory (a checkout or its build tree). Empty when absent: benches then use a stand-in.
+std::filesystem::path find_shared_data(const std::filesystem::path& relative,
+                                       const std::filesystem::path& probe);
 
 // probeless bench pipeline [--frames N] [--json FILE] (bench_pipeline_command.cpp)
 void add_bench_pipeline_command(CLI::App& bench);
