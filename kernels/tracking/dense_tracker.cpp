@@ -87,6 +87,8 @@ struct DenseTracker::Impl {
 
   FramePyramid current;            // the CPU path's pyramid (the device path's stays on the device)
   std::deque<Keyframe> keyframes;  // back() is the reference
+  TimestampNs current_time = 0;    // of the frame being tracked
+  int frame_index = -1;            // of the current frame since reset()
   Pose T_world_last;
   Pose last_motion;                              // T_prev_cur of the last tracked pair
   TimestampNs last_time = 0, last_interval = 0;  // of the last tracked frame and pair
@@ -116,6 +118,10 @@ struct DenseTracker::Impl {
                                                        readout_rotation)
                                : make_keyframe(current, T_world_camera, params.max_points_per_level,
                                                readout_rotation));
+    keyframes.back().id = frame_index;
+    keyframes.back().timestamp_ns = current_time;
+    keyframes.back().shear_pending =
+        params.rolling_shutter_readout_s > 0.0 && readout_rotation == std::array<float, 3>{};
     while (int(keyframes.size()) > params.max_keyframes) keyframes.pop_front();
     gain = 1;
     bias = 0;
@@ -283,6 +289,8 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
       depth_mm.height() != k.height)
     throw std::invalid_argument("tracking: frame size differs from the colour camera's");
   TrackResult r;
+  ++m.frame_index;
+  m.current_time = timestamp_ns;
   // Constant velocity: the last pair's motion, scaled to this frame's interval when both are
   // known (a dropped frame doubles it).
   const TimestampNs interval = timestamp_ns - m.last_time;
@@ -314,6 +322,7 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
     r.T_world_camera = m.origin;
     r.inlier_fraction = r.visible_fraction = 1.0;
     r.keyframes = int(m.keyframes.size());
+    r.keyframe_id = m.keyframes.back().id;
     r.new_keyframe = true;
     return r;
   }
@@ -368,6 +377,28 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
   }
 
   Pose T_world_camera = reference->T_world_keyframe * a.T_current_keyframe.inverse();
+  if (reference->shear_pending && !r.relocalised && interval > 0) {
+    // The keyframe was made before any velocity was known: its readout shear is removed now,
+    // with the angular velocity between it and this frame, and this frame aligned again.
+    const Pose motion = reference->T_world_keyframe.inverse() * T_world_camera;
+    const TimestampNs since = timestamp_ns - reference->timestamp_ns;
+    const auto shear = m.rotation_over_readout(motion, since);
+    undo_rolling_shutter(*reference, shear);
+    // This frame had no velocity either (it follows a first frame): it turns at the same rate.
+    if (m.readout_rotation == std::array<float, 3>{}) m.readout_rotation = shear;
+    reference->shear_pending = false;
+    if (m.device) {
+      reference->device_points.clear();
+      m.device->upload_points(*reference);
+    }
+    const int before = a.iterations;
+    const Alignment again = m.align(*reference, a.T_current_keyframe, a.gain, a.bias);
+    if (again.accepted) {
+      a = again;
+      T_world_camera = reference->T_world_keyframe * a.T_current_keyframe.inverse();
+    }
+    a.iterations += before;
+  }
   bool switch_keyframe = a.visible_fraction < m.params.keyframe_min_visible ||
                          m.beyond_keyframe(a.T_current_keyframe.inverse());
   if (switch_keyframe && !r.relocalised) {
@@ -405,12 +436,14 @@ TrackResult DenseTracker::track(const ImageRGB8& colour, const DepthImage& depth
   r.state = m.state;
   r.T_world_camera = T_world_camera;
   r.keyframes = int(m.keyframes.size());
+  r.keyframe_id = m.keyframes.back().id;
   return r;
 }
 
 void DenseTracker::reset(const Pose& T_world_camera) {
   impl_->origin = T_world_camera;
   impl_->keyframes.clear();
+  impl_->frame_index = -1;
   impl_->state = TrackingState::Off;
 }
 

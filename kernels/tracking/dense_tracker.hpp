@@ -67,6 +67,7 @@ struct TrackResult {
   double residual_rms = 0.0;      // photometric, grey levels after the brightness model
   double inlier_fraction = 0.0;   // of the keyframe points inside the frame (finest level)
   int keyframes = 0;              // kept for relocalisation
+  int keyframe_id = -1;           // the reference's frame number since reset() (diagnostics)
   bool new_keyframe = false;      // this frame became the reference
   bool relocalised = false;       // tracking resumed against a kept keyframe on this frame
   bool revisited = false;         // an older kept keyframe became the reference again (no new one)

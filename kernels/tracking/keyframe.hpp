@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/pose.hpp"
+#include "core/time.hpp"
 #include "kernels/tracking/frame_pyramid.hpp"
 
 namespace probeless::tracking {
@@ -27,6 +28,11 @@ static_assert(sizeof(TrackPoint) == 24 * sizeof(float));
 
 struct Keyframe {
   Pose T_world_keyframe;
+  TimestampNs timestamp_ns = 0;
+  int id = 0;  // the frame (counted from reset()) that became this keyframe
+  // Made without a known angular velocity (a first frame, or one just after a loss) under a
+  // rolling shutter: its points still carry the readout's shear until one is measured.
+  bool shear_pending = false;
   std::vector<LevelCamera> cameras;             // per level, as the frame's pyramid
   std::vector<std::vector<TrackPoint>> points;  // per level
   std::vector<::cl::Buffer> device_points;      // per level, filled by the device path

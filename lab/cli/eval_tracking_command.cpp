@@ -16,7 +16,7 @@ namespace probeless::cli {
 namespace {
 
 struct Options {
-  std::string dataset, methods, json, trajectories;
+  std::string dataset, methods, json, trajectories, per_frame;
   int frames = 0;
 };
 
@@ -61,6 +61,7 @@ void run(const Options& o) {
       ctx = std::make_unique<ComputeContext>();
     report = eval::evaluate_tracking(*sequence, methods, range, ctx.get());
     if (!o.trajectories.empty()) eval::write_tum_trajectories(report, o.trajectories);
+    if (!o.per_frame.empty()) eval::write_per_frame_csv(report, o.per_frame);
   } catch (const std::exception& e) {
     throw CommandError(std::string("eval tracking: ") + e.what());
   }
@@ -98,6 +99,9 @@ void add_eval_tracking_command(CLI::App& eval) {
   cmd->add_option("--trajectories", o->trajectories,
                   "Write DIR/METHOD.txt (tracked, the first frame's camera as the world) and "
                   "DIR/groundtruth.txt (in the dataset's world), TUM trajectory format");
+  cmd->add_option("--per-frame", o->per_frame,
+                  "Write a CSV row per frame and method: lost, reference keyframe, registration "
+                  "px, rotation and translation error against the truth (both from frame 0)");
   cmd->callback([o] { run(*o); });
 }
 

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -32,6 +33,7 @@ TrackingEvalReport evaluate_tracking(TrackingSequence& sequence,
   struct Run {
     std::unique_ptr<TrackingMethod> method;
     std::vector<PosePair> poses;
+    std::vector<TrackingStep> steps;
     std::vector<double> ms;
     int lost = 0;
   };
@@ -41,11 +43,13 @@ TrackingEvalReport evaluate_tracking(TrackingSequence& sequence,
                                          sequence.rolling_shutter_readout_s()),
                     {},
                     {},
+                    {},
                     0});
 
   TrackingEvalReport report;
   report.sequence = sequence.name();
   report.camera = sequence.camera_description();
+  report.camera_intrinsics = sequence.camera();
   while (auto frame = sequence.next()) {
     if (report.frames == 0) {
       const auto d = central_median_depth_m(frame->depth_mm);
@@ -62,6 +66,7 @@ TrackingEvalReport evaluate_tracking(TrackingSequence& sequence,
       if (report.frames > 0) run.ms.push_back(ms_since(t0));
       run.lost += step.lost ? 1 : 0;
       run.poses.push_back({frame->timestamp_ns, step.T_world_camera, frame->T_world_camera});
+      run.steps.push_back(step);
     }
     ++report.frames;
     if (report.frames % 100 == 0) spdlog::info("eval tracking: {} frames", report.frames);
@@ -87,6 +92,7 @@ TrackingEvalReport evaluate_tracking(TrackingSequence& sequence,
     m.p99_ms = t.p99_ms;
     m.lost_frames = run.lost;
     m.poses = std::move(run.poses);
+    m.steps = std::move(run.steps);
     report.methods.push_back(std::move(m));
   }
   return report;
@@ -113,6 +119,32 @@ void write_tum_trajectories(const TrackingEvalReport& report, const std::string&
   };
   for (const auto& m : report.methods) write(m.name, m.poses, false);
   if (!report.methods.empty()) write("groundtruth", report.methods.front().poses, true);
+}
+
+void write_per_frame_csv(const TrackingEvalReport& report, const std::string& path) {
+  std::ofstream out(path);
+  out << "frame,timestamp_s,method,lost,keyframe,reg_px,rotation_error_deg,translation_error_m\n";
+  const Eigen::Vector3d anchor(0, 0, report.anchor_depth_m);
+  for (const auto& m : report.methods) {
+    const auto reg = registration_px_per_frame(m.poses, report.camera_intrinsics, anchor);
+    const Pose est_first_inv = m.poses.front().estimate.inverse();
+    const Pose truth_first_inv = m.poses.front().truth->inverse();
+    for (std::size_t i = 0; i < m.poses.size(); ++i) {
+      const PosePair& f = m.poses[i];
+      std::string rotation, translation;
+      if (f.truth) {
+        // The relative poses' difference, in the camera's axes.
+        const Pose e = (truth_first_inv * *f.truth).inverse() * (est_first_inv * f.estimate);
+        rotation = fmt::format("{:.4f}", Eigen::AngleAxisd(e.rotation).angle() * 180.0 / M_PI);
+        translation = fmt::format("{:.5f}", e.translation.norm());
+      }
+      out << fmt::format("{},{:.6f},{},{},{},{},{},{}\n", i, f.timestamp_ns * 1e-9, m.name,
+                         m.steps[i].lost ? 1 : 0, m.steps[i].keyframe,
+                         reg[i] ? fmt::format("{:.3f}", *reg[i]) : std::string(), rotation,
+                         translation);
+    }
+  }
+  if (!out) throw std::runtime_error("cannot write " + path);
 }
 
 }  // namespace probeless::eval

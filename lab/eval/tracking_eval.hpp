@@ -22,14 +22,16 @@ struct TrackingMethodReport {
   int reg_frames = 0;             // frames whose true projection of the anchor is inside the image
   double p50_ms = 0, p99_ms = 0;  // per frame, the first (initialising) frame excluded
   int lost_frames = 0;
-  std::vector<PosePair> poses;  // per frame: the tracked pose and the truth
+  std::vector<PosePair> poses;      // per frame: the tracked pose and the truth
+  std::vector<TrackingStep> steps;  // per frame: lost, the reference keyframe
 };
 
 struct TrackingEvalReport {
   std::string sequence;
   std::string camera;  // intrinsics' source and undistortion
   int frames = 0;
-  double anchor_depth_m = 0;  // median depth of the first frame's central 64x64 window
+  double anchor_depth_m = 0;            // median depth of the first frame's central 64x64 window
+  PinholeIntrinsics camera_intrinsics;  // the ideal pinhole the metrics project through
   std::vector<TrackingMethodReport> methods;
 };
 
@@ -45,6 +47,13 @@ TrackingEvalReport evaluate_tracking(TrackingSequence& sequence,
 // ("timestamp tx ty tz qx qy qz qw", seconds), for TUM's own evaluate_ate.py / evaluate_rpe.py
 // and plots. Throws std::runtime_error when a file cannot be written.
 void write_tum_trajectories(const TrackingEvalReport& report, const std::string& dir);
+
+// Writes one CSV row per frame and method (`eval tracking --per-frame`): frame, timestamp,
+// method, lost, the dense tracker's reference keyframe, the registration error (empty where
+// the truth does not see the anchor) and the rotation (deg) and translation (m) errors of
+// the pose relative to the first frame against the truth's (the registration's anchoring,
+// no alignment). Throws std::runtime_error when the file cannot be written.
+void write_per_frame_csv(const TrackingEvalReport& report, const std::string& path);
 
 std::optional<double> central_median_depth_m(const DepthImage& depth_mm, int window = 64);
 

@@ -22,9 +22,9 @@ class DenseMethod final : public TrackingMethod {
   TrackingStep track(const ImageRGB8& colour, const DepthImage& depth_mm,
                      TimestampNs timestamp_ns) override {
     const tracking::TrackResult r = tracker_.track(colour, depth_mm, timestamp_ns);
-    if (r.state != tracking::TrackingState::Tracking) return {last_, true};
+    if (r.state != tracking::TrackingState::Tracking) return {last_, true, -1};
     last_ = r.T_world_camera;
-    return {last_, false};
+    return {last_, false, r.keyframe_id};
   }
   void reset() override {
     tracker_.reset();

@@ -28,6 +28,7 @@ struct TrackingDepthRange {
 struct TrackingStep {
   Pose T_world_camera;  // the first frame's camera is the world
   bool lost = false;    // no pose for this frame: T_world_camera is the last good one
+  int keyframe = -1;    // the dense tracker's reference (its frame number); -1: none
 };
 
 class TrackingMethod {

@@ -95,8 +95,9 @@ std::optional<RelativePoseError> relative_pose_error(const std::vector<PosePair>
   return r;
 }
 
-std::vector<double> registration_px(const std::vector<PosePair>& frames, const PinholeIntrinsics& k,
-                                    const Eigen::Vector3d& point_first) {
+std::vector<std::optional<double>> registration_px_per_frame(const std::vector<PosePair>& frames,
+                                                             const PinholeIntrinsics& k,
+                                                             const Eigen::Vector3d& point_first) {
   if (frames.empty()) return {};
   if (!frames.front().truth)
     throw std::invalid_argument("registration_px: the first frame has no ground truth");
@@ -107,8 +108,9 @@ std::vector<double> registration_px(const std::vector<PosePair>& frames, const P
   const double diagonal = std::hypot(k.width, k.height);
   const Pose est_first_inv = frames.front().estimate.inverse();
   const Pose truth_first_inv = frames.front().truth->inverse();
-  std::vector<double> out;
+  std::vector<std::optional<double>> out;
   for (const auto& f : frames) {
+    auto& px = out.emplace_back();
     if (!f.truth) continue;
     // T_camera_first = (T_first_world T_world_camera)^-1: the anchored point in this camera.
     const auto truth_px = project((truth_first_inv * *f.truth).inverse() * point_first);
@@ -116,8 +118,16 @@ std::vector<double> registration_px(const std::vector<PosePair>& frames, const P
         truth_px->y() >= k.height)
       continue;
     const auto est_px = project((est_first_inv * f.estimate).inverse() * point_first);
-    out.push_back(est_px ? (*est_px - *truth_px).norm() : diagonal);
+    px = est_px ? (*est_px - *truth_px).norm() : diagonal;
   }
+  return out;
+}
+
+std::vector<double> registration_px(const std::vector<PosePair>& frames, const PinholeIntrinsics& k,
+                                    const Eigen::Vector3d& point_first) {
+  std::vector<double> out;
+  for (const auto& px : registration_px_per_frame(frames, k, point_first))
+    if (px) out.push_back(*px);
   return out;
 }
 

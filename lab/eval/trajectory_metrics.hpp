@@ -55,6 +55,11 @@ std::optional<RelativePoseError> relative_pose_error(const std::vector<PosePair>
 std::vector<double> registration_px(const std::vector<PosePair>& frames,
                                     const PinholeIntrinsics& camera,
                                     const Eigen::Vector3d& point_first);
+// The same per frame, index aligned with `frames`: nullopt where the frame has no truth or
+// its true projection is behind the camera or outside the image (`eval tracking --per-frame`).
+std::vector<std::optional<double>> registration_px_per_frame(const std::vector<PosePair>& frames,
+                                                             const PinholeIntrinsics& camera,
+                                                             const Eigen::Vector3d& point_first);
 
 // q-quantile (q in [0, 1]) by linear interpolation between order statistics (numpy's
 // default); 0 for an empty set.
