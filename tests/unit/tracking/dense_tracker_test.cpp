@@ -216,7 +216,11 @@ TEST(DenseTracker, ModelsARollingShutter) {
   std::printf("rolling shutter: worst rotation error %.3f deg modelled, %.3f deg not\n", rolling,
               global);
   EXPECT_LT(rolling, 0.5 * global);
-  EXPECT_LT(rolling, 0.1);
+  // 0.066 degrees before the first keyframe was unsheared by the velocity of its first
+  // interval (UnshearsAFirstKeyframeTakenWhileTurning), 0.108 since: this camera starts to
+  // move within that interval, so the keyframe, taken at rest, gets a small shear it did not
+  // have. The cost of a start from rest against 0.34 degrees saved on a start while turning.
+  EXPECT_LT(rolling, 0.15);
 }
 
 TEST(DenseTracker, UnshearsAFirstKeyframeTakenWhileTurning) {
