@@ -2,8 +2,10 @@
 // binary, its JSON, its errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -91,10 +93,11 @@ TEST(EvalTracking, TumFr1RpyReportsEveryMethodWithPlausibleNumbers) {
 TEST(EvalTracking, SimOrbitAgainstItsTruth) {
   const auto out = testing::scratch_dir() / "sim.json";
   const auto trajectories = testing::scratch_dir() / "trajectories";
+  const auto per_frame = testing::scratch_dir() / "per_frame.csv";
   std::string output;
   ASSERT_EQ(run({"eval", "tracking", "--dataset", "sim:seed=2", "--frames", "40", "--methods",
                  "opencv_rgbd,dense_cpu", "--json", out.string(), "--trajectories",
-                 trajectories.string()},
+                 trajectories.string(), "--per-frame", per_frame.string()},
                 &output),
             0)
       << output;
@@ -120,6 +123,46 @@ TEST(EvalTracking, SimOrbitAgainstItsTruth) {
     }
     EXPECT_EQ(lines, 40) << name;
   }
+  // --per-frame: a row per frame and method; the dense tracker names its reference keyframe
+  // (frame 0 first), OpenCV's frame-to-frame methods none; the sim sees the anchor throughout.
+  std::ifstream csv(per_frame);
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line,
+            "frame,timestamp_s,method,lost,keyframe,reg_px,rotation_error_deg,"
+            "translation_error_m");
+  std::map<std::string, int> rows;
+  std::map<std::string, std::vector<double>> reg;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::istringstream fields(line);
+    for (std::string v; std::getline(fields, v, ',');) f.push_back(v);
+    ASSERT_EQ(f.size(), 8u) << line;
+    const int frame = std::stoi(f[0]);
+    EXPECT_EQ(frame, rows[f[2]]++) << line;
+    EXPECT_EQ(f[3], "0") << line;
+    if (f[2] == "dense_cpu") {
+      EXPECT_TRUE(frame == 0 ? f[4] == "0" : std::stoi(f[4]) >= 0) << line;
+    } else {
+      EXPECT_EQ(f[4], "-1") << line;
+    }
+    ASSERT_FALSE(f[5].empty()) << line;
+    if (frame == 0) {
+      EXPECT_EQ(std::stod(f[5]), 0.0) << line;
+    }
+    reg[f[2]].push_back(std::stod(f[5]));
+    if (f[2] == "dense_cpu") {  // the sim's orbit: the dense tracker is within a pixel or two
+      EXPECT_LT(std::stod(f[6]), 0.5) << line;
+      EXPECT_LT(std::stod(f[7]), 0.05) << line;
+    }
+  }
+  for (auto& [name, values] : reg) {  // the rows are the numbers the report's quantiles take
+    std::sort(values.begin(), values.end());
+    EXPECT_NEAR((values[19] + values[20]) / 2, j.at("methods").at(name).at("reg_px_p50"), 2e-3)
+        << name;
+  }
+  EXPECT_EQ(rows["dense_cpu"], 40);
+  EXPECT_EQ(rows["opencv_rgbd"], 40);
 }
 
 TEST(EvalTracking, BadInputsGiveClearErrors) {
@@ -143,6 +186,9 @@ TEST(EvalTracking, BadInputsGiveClearErrors) {
        "none.toml does not exist"},
       {{"--dataset", "tum:" + no_truth.string()}, "no groundtruth.txt"},
       {{"--dataset", "kitti:" + dir.string()}, "expected tum:DIR"},
+      {{"--dataset", "sim", "--frames", "2", "--methods", "opencv_rgbd", "--per-frame",
+        dir.string()},
+       "cannot write"},
   };
   for (const auto& c : cases) {
     std::vector<std::string> args{"eval", "tracking"};
