@@ -48,9 +48,10 @@ void MarkerWorker::run(std::stop_token stop) {
     try {
       const BoardDetection d = detector_->detect(job.first);
       s.found = d.found;
-      if (d.found)
-        s.T_world_tracker =
-            (d.T_camera_board * detector_->T_board_world()).inverse() * job.second.inverse();
+      if (d.found) {
+        s.T_world_camera = (d.T_camera_board * detector_->T_board_world()).inverse();
+        s.T_world_tracker = s.T_world_camera * job.second.inverse();
+      }
     } catch (const std::exception& e) {
       // A frame the detector refuses (its size) finds nothing; say it, keep the thread.
       spdlog::warn("marker detection: {}", e.what());

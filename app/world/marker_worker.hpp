@@ -23,6 +23,7 @@ class MarkerWorker {
   struct Sighting {
     bool found = false;
     Pose T_world_tracker;  // the board's world in the tracker's, when found
+    Pose T_world_camera;   // the frame's camera in the board's world, when found
   };
 
   explicit MarkerWorker(std::unique_ptr<BoardDetector> detector);

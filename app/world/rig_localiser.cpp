@@ -51,7 +51,25 @@ RigLocaliser::~RigLocaliser() = default;
 // world (truth), or the first frame's camera forever (off: a rig that never moves).
 std::optional<Pose> RigLocaliser::camera_in_tracker(const RgbdFrame& frame) {
   if (tracker_) {
-    const tracking::TrackResult r = tracker_->track(frame.colour, frame.depth, frame.timestamp_ns);
+    // Lost: the marker, when this frame sees it, says where the camera is, globally and
+    // without drift; the kept keyframes only find views near their own (and a wrong
+    // alignment may pass their test). It is asked before the tracker while lost, and on the
+    // frame that loses it. The tracker then starts again there (its keyframes forgotten).
+    const auto lost = [](TrackingState s) {
+      return s == TrackingState::Lost || s == TrackingState::Relocalising;
+    };
+    const bool was_lost = lost(status_.state);
+    std::optional<Pose> on_marker = was_lost ? anchor_.relocalise(frame) : std::nullopt;
+    tracking::TrackResult r;
+    if (!on_marker) {
+      r = tracker_->track(frame.colour, frame.depth, frame.timestamp_ns);
+      if (!was_lost && lost(r.state)) on_marker = anchor_.relocalise(frame);
+    }
+    if (on_marker) {
+      tracker_->reset(*on_marker);
+      r = tracker_->track(frame.colour, frame.depth, frame.timestamp_ns);
+      spdlog::info("tracking relocalised on the marker at frame {}", frame.sequence);
+    }
     status_.state = r.state;
     status_.keyframes = r.keyframes;
     if (r.state != TrackingState::Tracking) return std::nullopt;

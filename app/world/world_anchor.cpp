@@ -70,6 +70,18 @@ std::optional<Pose> WorldAnchor::measure(const RgbdFrame& frame, const Pose& T_t
   return sighting->T_world_tracker;
 }
 
+std::optional<Pose> WorldAnchor::relocalise(const RgbdFrame& frame) {
+  if (!marker_ || !T_world_tracker_) return std::nullopt;
+  marker_->wait_idle();
+  (void)marker_->take();  // an earlier frame's: its pose in the tracker's world is lost
+  marker_->offer(frame.colour, Pose::identity());
+  marker_->wait_idle();
+  const auto sighting = marker_->take();
+  marker_in_view_ = sighting && sighting->found;
+  if (!marker_in_view_) return std::nullopt;
+  return T_world_tracker_->inverse() * sighting->T_world_camera;
+}
+
 void WorldAnchor::wait_for_detection() {
   if (marker_) marker_->wait_idle();
 }

@@ -34,6 +34,11 @@ class WorldAnchor {
   bool found() const { return T_world_tracker_.has_value(); }
   // The marker was seen in the last detection that finished (marker anchoring only).
   bool marker_in_view() const { return marker_in_view_; }
+  // Marker anchoring, once the world is known: the colour camera of `frame` in the tracker's
+  // world from a sighting of the marker in this very frame (detected now, waiting for the
+  // detector: the tracker is lost and nothing is drawn meanwhile); nullopt when the marker is
+  // not in view or the anchor is not a marker.
+  std::optional<Pose> relocalise(const RgbdFrame& frame);
   // Marker anchoring detects on its own thread (marker_worker.hpp); a test that wants each
   // frame's sighting applied to that frame waits for it here.
   void wait_for_detection();
