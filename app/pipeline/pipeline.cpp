@@ -10,6 +10,7 @@
 #include "app/pipeline/light_capture.hpp"
 #include "app/pipeline/output_factory.hpp"
 #include "app/pipeline/scene_objects.hpp"
+#include "app/pipeline/thread_name.hpp"
 #include "app/pipeline/tracking_worker.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
 #include "drivers/trigger/gpio_trigger.hpp"
@@ -65,11 +66,28 @@ void Pipeline::start() {
       spdlog::warn("light capture off: {}", e.what());
     }
   }
-  threads_.emplace_back([this](std::stop_token s) { capture_rgbd(s); });
-  if (light_) threads_.emplace_back([this](std::stop_token s) { light_->run(s, stats_); });
-  if (rig_.fisheye) threads_.emplace_back([this](std::stop_token s) { capture_fisheye(s); });
-  threads_.emplace_back([this](std::stop_token s) { process(s); });
-  threads_.emplace_back([this](std::stop_token s) { output_loop(s); });
+  threads_.emplace_back([this](std::stop_token s) {
+    name_this_thread("pl-rgbd");
+    capture_rgbd(s);
+  });
+  if (light_)
+    threads_.emplace_back([this](std::stop_token s) {
+      name_this_thread("pl-light");
+      light_->run(s, stats_);
+    });
+  if (rig_.fisheye)
+    threads_.emplace_back([this](std::stop_token s) {
+      name_this_thread("pl-fisheye");
+      capture_fisheye(s);
+    });
+  threads_.emplace_back([this](std::stop_token s) {
+    name_this_thread("pl-process");
+    process(s);
+  });
+  threads_.emplace_back([this](std::stop_token s) {
+    name_this_thread("pl-output");
+    output_loop(s);
+  });
 }
 
 void Pipeline::open_outputs() {
