@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "app/pipeline/thread_name.hpp"
+
 namespace probeless {
 
 TrackingWorker::TrackingWorker() : thread_([this](std::stop_token s) { loop(s); }) {}
@@ -29,6 +31,7 @@ void TrackingWorker::wait() {
 }
 
 void TrackingWorker::loop(std::stop_token stop) {
+  name_this_thread("pl-tracking");
   while (true) {
     std::function<void()> job;
     {
