@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "app/pipeline/scene_objects.hpp"
+#include "app/pipeline/thread_name.hpp"
 #include "kernels/envmap/keyframe_reprojection.hpp"
 #include "kernels/hdr/colour_exposure.hpp"
 #include "kernels/light/colour_fill.hpp"
@@ -188,6 +189,7 @@ bool LightCapture::initialise() {
 
 void LightCapture::run(std::stop_token stop, StageStats& stats) {
   if (!initialise()) return;
+  name_this_thread("pl-light");  // after the OpenCL context: see Pipeline::process
   while (!stop.stop_requested()) {
     FisheyeFrame frame;
     {

@@ -53,8 +53,9 @@ class JpegSink final : public Output {
 
 // CPU time per thread group so far (ms), from /proc/self/task/*/schedstat (ns on the CPU):
 // the pipeline names its threads pl-* (app/pipeline/thread_name.hpp); Mesa's are llvmpipe-N;
-// the rest are PoCL's workers (every OpenCL kernel: matte, composite, light update) and the
-// main thread, which sleeps.
+// the rest are PoCL's workers (every OpenCL kernel: matte, composite, light update; they take
+// the name of the thread that built the first context, so the pipeline names its threads
+// after that) and the main thread, which sleeps.
 std::map<std::string, double> cpu_ms_by_thread() {
   std::map<std::string, double> out;
   std::error_code ec;
@@ -63,7 +64,7 @@ std::map<std::string, double> cpu_ms_by_thread() {
     std::string comm;
     double ns = 0;
     if (!std::getline(comm_file, comm) || !(sched_file >> ns)) continue;  // ended meanwhile
-    std::string group = "pocl+main";
+    std::string group = "pocl";
     if (comm.starts_with("pl-"))
       group = comm.substr(3);
     else if (comm.starts_with("llvmpipe"))
