@@ -42,12 +42,13 @@ FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration
       composite_(*ctx_),
       download_(*ctx_, keep_matte),
       localiser_(config.tracking, config.world, calibration, ctx_.get()),
-      poses_(std::move(poses)) {}
+      poses_(std::move(poses)),
+      tracking_apart_(config.tracking.device != "opencl") {}
 
 // Never a virtual object at a pose that may be wrong (issue #17): the camera's picture, a
 // transparent matte, and a banner naming what is missing.
-CompositeFrame FrameProcessor::camera_only(const RgbdFrame& frame) const {
-  const world::LocaliserStatus& s = localiser_.status();
+CompositeFrame FrameProcessor::camera_only(const RgbdFrame& frame,
+                                           const world::LocaliserStatus& s) const {
   auto colour = std::make_shared<ImageRGB8>(frame.colour);
   const std::string text = !s.anchor_found && s.state == tracking::TrackingState::Tracking
                                ? "LOOKING FOR THE " + s.anchor
@@ -74,17 +75,30 @@ CompositeFrame FrameProcessor::camera_only(const RgbdFrame& frame) const {
 }
 
 CompositeFrame FrameProcessor::process(const RgbdFrame& frame, StageStats& stats) {
-  const auto frame_start = std::chrono::steady_clock::now();
-  const std::optional<Pose> T_world_rig = localiser_.locate(frame);
-  stats.record("tracking", ms_since(frame_start));
+  return compose(frame, locate(frame, stats), stats);
+}
+
+FrameProcessor::Located FrameProcessor::locate(const RgbdFrame& frame, StageStats& stats) {
+  Located located;
+  located.started = std::chrono::steady_clock::now();
+  located.T_world_rig = localiser_.locate(frame);
+  stats.record("tracking", ms_since(located.started));
+  located.status = localiser_.status();
   if (poses_) {
-    if (T_world_rig)
-      poses_->add(frame.timestamp_ns, *T_world_rig);
+    if (located.T_world_rig)
+      poses_->add(frame.timestamp_ns, *located.T_world_rig);
     else
       poses_->mark_unknown(frame.timestamp_ns);
   }
+  return located;
+}
+
+CompositeFrame FrameProcessor::compose(const RgbdFrame& frame, const Located& located,
+                                       StageStats& stats) {
+  const auto& frame_start = located.started;
+  const std::optional<Pose>& T_world_rig = located.T_world_rig;
   if (!T_world_rig) {
-    CompositeFrame out = camera_only(frame);
+    CompositeFrame out = camera_only(frame, located.status);
     stats.record("frame", ms_since(frame_start));
     return out;
   }

@@ -2,8 +2,11 @@
 // The processing thread's work for one RGB-D frame: the stages of frame_stages.hpp composed
 // from config, each one's result the next one's input, each timed into StageStats. Owns the
 // OpenCL context and the EGL renderer, so it must be created, used and destroyed on one
-// thread.
+// thread; only locate() may run on another (one call at a time) when tracking_apart() says
+// so: the processing loop tracks the next frame there while this one is composed.
+#include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "app/pipeline/frame_stages.hpp"
@@ -21,8 +24,25 @@ class FrameProcessor {
   // `poses`: where each frame's rig pose (or its absence) goes for the light thread.
   FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration, bool keep_matte,
                  LightSource light = {}, std::shared_ptr<PoseHistory> poses = {});
+  // Where the rig is at one frame, and /status "tracking" as of that frame.
+  struct Located {
+    std::optional<Pose> T_world_rig;
+    world::LocaliserStatus status;
+    std::chrono::steady_clock::time_point started;  // when locate() began: the frame's start
+  };
+
+  // locate() then compose(): the frame on this thread alone.
   CompositeFrame process(const RgbdFrame& frame, StageStats& stats);
-  // Where the rig is, as of the last frame (/status "tracking").
+  // The tracking stage ("tracking"): the rig pose, also handed to the light thread (`poses`).
+  // Frames in order, one call at a time.
+  Located locate(const RgbdFrame& frame, StageStats& stats);
+  // Everything after tracking: render, upload, matte, composite, download ("frame": from
+  // located.started to the end).
+  CompositeFrame compose(const RgbdFrame& frame, const Located& located, StageStats& stats);
+  // Whether locate() may run on another thread beside compose(): the tracker does not use
+  // this thread's OpenCL context (`[tracking] device = "cpu"`, the default, or no tracker).
+  bool tracking_apart() const { return tracking_apart_; }
+  // Where the rig is, as of the last frame located (/status "tracking").
   const world::LocaliserStatus& tracking() const { return localiser_.status(); }
 
   std::string occlusion_method() const { return occlusion_.method_name(); }
@@ -39,9 +59,10 @@ class FrameProcessor {
   DownloadStage download_;
   world::RigLocaliser localiser_;
   std::shared_ptr<PoseHistory> poses_;
+  bool tracking_apart_;
 
   // The camera image alone with a small banner: what is shown while the pose is unknown.
-  CompositeFrame camera_only(const RgbdFrame& frame) const;
+  CompositeFrame camera_only(const RgbdFrame& frame, const world::LocaliserStatus& s) const;
 };
 
 }  // namespace probeless

@@ -76,14 +76,19 @@ DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& lay
     real_depth_.upload(q, frame.depth, false);
   }
   DeviceFrame out{&colour_, &real_depth_, {}, &virtual_depth_};
+  // The virtual layer is read in place (CL_MEM_USE_HOST_PTR; no copy on PoCL and on boards
+  // whose GPU shares the memory): the render stage keeps it until its next render, after this
+  // frame's blocking download. 6.1 MB a frame with the HDR layer (radiance float4 + depth),
+  // the PoCL workers' largest memcpy in `perf` (docs/performance.md).
+  const auto& c = ctx_.context();
   if (const auto* hdr = std::get_if<HdrRadiance>(&layer.colour)) {
-    virtual_radiance_.upload(q, *hdr->radiance, false);
+    virtual_radiance_ = DeviceImage<float, 4>::wrap_host(c, *hdr->radiance);
     out.virtual_colour = DeviceHdrRadiance{&virtual_radiance_, hdr->camera};
   } else {
-    virtual_colour_.upload(q, *std::get<LdrColour>(layer.colour).colour, false);
+    virtual_colour_ = DeviceImageRGBA8::wrap_host(c, *std::get<LdrColour>(layer.colour).colour);
     out.virtual_colour = DeviceLdrColour{&virtual_colour_};
   }
-  virtual_depth_.upload(q, *layer.depth_mm, false);
+  virtual_depth_ = DeviceImageF::wrap_host(c, *layer.depth_mm);
   return out;
 }
 

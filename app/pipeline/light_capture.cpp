@@ -6,6 +6,7 @@
 #include <chrono>
 
 #include "app/pipeline/scene_objects.hpp"
+#include "app/pipeline/thread_name.hpp"
 #include "kernels/envmap/keyframe_reprojection.hpp"
 #include "kernels/hdr/colour_exposure.hpp"
 #include "kernels/light/colour_fill.hpp"
@@ -162,6 +163,8 @@ bool LightCapture::initialise() {
     lc.keyframes.face_size = config_.light_face_size;
     lc.keyframes.new_keyframe_distance_m = config_.light_keyframe_distance_m;
     lc.time_stages = false;  // one wait per frame; the service reports the whole update
+    // Push-pull and the SH only for the snapshots (publish(): 4 Hz), not per fisheye frame.
+    lc.fill_every_frame = false;
     lc.room = room_;
     if (lc.room && !config_.objects.empty()) lc.sh_position = light_point_;
     estimator_->light = std::make_unique<light::LightEstimator>(
@@ -186,6 +189,7 @@ bool LightCapture::initialise() {
 
 void LightCapture::run(std::stop_token stop, StageStats& stats) {
   if (!initialise()) return;
+  name_this_thread("pl-light");  // after the OpenCL context: see Pipeline::process
   while (!stop.stop_requested()) {
     FisheyeFrame frame;
     {
@@ -221,7 +225,6 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
     if (!pose) ++without_pose_;
     keyframes_ = static_cast<int>(estimator_->light->keyframes().keyframes().size());
     active_keyframe_ = keyframe.id;
-    sh_ = estimator_->light->sh();
   } catch (const std::exception& e) {
     fail(e.what());
     return false;
@@ -300,6 +303,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
   last_publish_ns_ = frame.timestamp_ns;
   const envmap::Keyframe* keyframe = estimator_->light->keyframes().nearest(anchor_);
   if (!keyframe) return false;
+  const ShRgb active_sh = estimator_->light->sh_of_active();
   int keyframe_filled_texels = 0;
   auto snap = std::make_shared<LightSnapshot>();
   snap->timestamp_ns = frame.timestamp_ns;
@@ -331,6 +335,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
     snap->colour_exposure_valid = estimator_->colour->estimate().valid;
   }
   std::lock_guard lock(mutex_);
+  sh_ = active_sh;
   colour_filled_texels_ = filled_texels;
   keyframe_filled_texels_ = keyframe_filled_texels;
   snap->version = ++snapshot_version_;

@@ -84,7 +84,8 @@ class LightCapture {
   bool process(const FisheyeFrame& frame, StageStats* stats = nullptr);
 
   nlohmann::json status() const;
-  std::optional<ShRgb> latest_sh() const;  // radiance SH of the keyframe last updated
+  // Radiance SH of the keyframe last updated, as of the last snapshot (publish() computes it).
+  std::optional<ShRgb> latest_sh() const;
   // The newest snapshot; null until the first is published.
   std::shared_ptr<const LightSnapshot> latest_light() const;
 

@@ -10,6 +10,8 @@
 #include "app/pipeline/light_capture.hpp"
 #include "app/pipeline/output_factory.hpp"
 #include "app/pipeline/scene_objects.hpp"
+#include "app/pipeline/thread_name.hpp"
+#include "app/pipeline/tracking_worker.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
 #include "drivers/trigger/gpio_trigger.hpp"
 
@@ -64,11 +66,21 @@ void Pipeline::start() {
       spdlog::warn("light capture off: {}", e.what());
     }
   }
-  threads_.emplace_back([this](std::stop_token s) { capture_rgbd(s); });
+  threads_.emplace_back([this](std::stop_token s) {
+    name_this_thread("pl-rgbd");
+    capture_rgbd(s);
+  });
   if (light_) threads_.emplace_back([this](std::stop_token s) { light_->run(s, stats_); });
-  if (rig_.fisheye) threads_.emplace_back([this](std::stop_token s) { capture_fisheye(s); });
+  if (rig_.fisheye)
+    threads_.emplace_back([this](std::stop_token s) {
+      name_this_thread("pl-fisheye");
+      capture_fisheye(s);
+    });
   threads_.emplace_back([this](std::stop_token s) { process(s); });
-  threads_.emplace_back([this](std::stop_token s) { output_loop(s); });
+  threads_.emplace_back([this](std::stop_token s) {
+    name_this_thread("pl-output");
+    output_loop(s);
+  });
 }
 
 void Pipeline::open_outputs() {
@@ -255,6 +267,9 @@ void Pipeline::process(std::stop_token stop) {
     }
     spdlog::info("processing on {}, occlusion '{}'", processor.device_description(),
                  processor.occlusion_method());
+    // Named after the OpenCL context is built: PoCL's worker threads take the name of the
+    // thread that starts them, and `bench pipeline` counts them apart.
+    name_this_thread("pl-process");
     process_loop(stop, processor);
   } catch (const std::exception& e) {
     fail(e.what());
@@ -269,14 +284,58 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
   std::optional<std::chrono::microseconds> watchdog_every;
   if (options_.notifier && options_.notifier->watchdog_interval())
     watchdog_every = *options_.notifier->watchdog_interval() / 2;
+
+  // Frame N+1 is tracked on the worker while frame N is composed here (tracking_worker.hpp):
+  // `tracked` is a frame located and not yet composed, `next` the one the worker locates.
+  struct Tracked {
+    RgbdFrame frame;
+    FrameProcessor::Located located;
+  };
+  std::optional<Tracked> tracked, next;
+  std::optional<TrackingWorker> worker;  // after `next`: joined before it is destroyed
+  if (processor.tracking_apart()) worker.emplace();
+
+  // Returns false when the loop ends (max_frames, fault injection).
+  const auto compose = [&](const Tracked& t) {
+    CompositeFrame out = processor.compose(t.frame, t.located, stats_);
+    {
+      nlohmann::json tracking = t.located.status.to_json();
+      std::lock_guard lock(state_mutex_);
+      tracking_ = std::move(tracking);
+    }
+    last_good_ = out;
+    output_.publish(std::move(out));
+    fps_.tick(monotonic_now_ns());
+    const auto n = ++processed_;
+    if (options_.hang_after_frames >= 0 &&
+        static_cast<std::int64_t>(n) >= options_.hang_after_frames) {
+      spdlog::warn("fault injection: the processing loop hangs after {} frames", n);
+      while (!stop.stop_requested()) std::this_thread::sleep_for(50ms);
+      return false;
+    }
+    if (config_.max_frames > 0 && static_cast<std::int64_t>(n) >= config_.max_frames) {
+      finish();
+      return false;
+    }
+    return true;
+  };
+
   while (!stop.stop_requested()) {
     const auto now = std::chrono::steady_clock::now();
     if (watchdog_every && now - last_watchdog >= *watchdog_every) {
       options_.notifier->watchdog();  // from this loop: a hung pipeline stops the beat
       last_watchdog = now;
     }
-    auto item = rgbd_slot_.take_newer(seen, 50ms);
+    // With a frame waiting to be composed, only a frame already there is taken (to track it
+    // meanwhile): the waiting one is not held back for a frame still to come.
+    auto item = rgbd_slot_.take_newer(seen, tracked ? 0ms : 50ms);
     if (!item) {
+      if (tracked) {
+        const bool go_on = compose(*tracked);
+        tracked.reset();
+        if (!go_on) return;
+        continue;
+      }
       if (rgbd_ended_) return finish();
       const auto silent_ns = monotonic_now_ns() - last_rgbd_ns_.load();
       if (silent_ns > config_.no_signal_after_ms * 1'000'000LL) {
@@ -294,25 +353,26 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
     if (options_.lossless) rgbd_credit_.release();
     if (no_signal_.exchange(false)) spdlog::info("{}: signal back", rig_.rgbd->name());
 
-    const RgbdFrame& frame = item->value;
-    CompositeFrame out = processor.process(frame, stats_);
-    {
-      nlohmann::json tracking = processor.tracking().to_json();
-      std::lock_guard lock(state_mutex_);
-      tracking_ = std::move(tracking);
+    next.emplace(Tracked{std::move(item->value), {}});
+    if (!worker) {
+      next->located = processor.locate(next->frame, stats_);
+      const bool go_on = compose(*next);
+      next.reset();
+      if (!go_on) return;
+      continue;
     }
-    last_good_ = out;
-    output_.publish(std::move(out));
-    fps_.tick(monotonic_now_ns());
-    const auto n = ++processed_;
-    if (options_.hang_after_frames >= 0 &&
-        static_cast<std::int64_t>(n) >= options_.hang_after_frames) {
-      spdlog::warn("fault injection: the processing loop hangs after {} frames", n);
-      while (!stop.stop_requested()) std::this_thread::sleep_for(50ms);
-      return;
+    worker->submit([&] { next->located = processor.locate(next->frame, stats_); });
+    bool go_on = true;
+    try {
+      if (tracked) go_on = compose(*tracked);
+    } catch (...) {
+      worker->wait();  // `next` outlives the job
+      throw;
     }
-    if (config_.max_frames > 0 && static_cast<std::int64_t>(n) >= config_.max_frames)
-      return finish();
+    worker->wait();
+    tracked = std::move(next);
+    next.reset();
+    if (!go_on) return;
   }
 }
 

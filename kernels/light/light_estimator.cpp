@@ -79,6 +79,14 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
   // the keyframe's neighbourhood does not move the texels; with one, texels are points on its
   // walls seen from the keyframe's position (docs/light-capture.md "Parallax").
   const Pose T_world_fisheye = T_world_rig * T_rig_fisheye_;
+  if (!config_.fill_every_frame) {
+    // A new keyframe is seeded from the nearest's texels, filled ones included: fill that
+    // first, as every frame's push-pull would have.
+    const envmap::Keyframe* near = keyframes_.nearest(T_world_fisheye.translation);
+    if (near && (near->position - T_world_fisheye.translation).norm() >
+                    config_.keyframes.new_keyframe_distance_m)
+      fill(*near);
+  }
   envmap::Keyframe& keyframe = keyframes_.for_capture(T_world_fisheye.translation);
   envmap::FisheyeView view;
   view.lut = fisheye_;
@@ -93,9 +101,30 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
   ++keyframe.updates;
   lap("update");
 
-  push_pull_.fill(keyframe.texels);
-  lap("push_pull");
+  if (config_.fill_every_frame) {
+    fill(keyframe);
+    lap("push_pull");
+    project_sh(keyframe);  // blocking: waits for the whole queue
+    lap("sh");
+  } else {
+    ctx_.queue().finish();
+  }
+  timings_.total.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  timings_.total.cpu_ms = process_cpu_ms() - cpu0;
+  // raw_ reads frame.raw in place: the blocking download (or finish) above has drained the
+  // queue, so nothing uses it after this returns.
+  return keyframe;
+}
 
+void LightEstimator::fill(const envmap::Keyframe& keyframe) {
+  std::uint64_t& filled = filled_at_[keyframe.id];
+  if (filled == keyframe.updates && keyframe.updates != 0) return;
+  // keyframes_ owns the keyframe; push-pull writes its texels on the device.
+  push_pull_.fill(keyframes_.keyframes()[static_cast<std::size_t>(keyframe.id)]->texels);
+  filled = keyframe.updates;
+}
+
+void LightEstimator::project_sh(const envmap::Keyframe& keyframe) {
   downsample_.run(keyframe.texels, config_.sh_face_size, small_);
   small_.download(ctx_.queue(), small_host_);  // blocking: waits for the whole queue
   if (config_.room && config_.sh_position) {
@@ -113,12 +142,18 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
   } else {
     sh_ = projector_.project(small_host_);
   }
-  lap("sh");
-  timings_.total.wall_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-  timings_.total.cpu_ms = process_cpu_ms() - cpu0;
-  // raw_ reads frame.raw in place: the blocking download above has drained the queue, so
-  // nothing uses it after this returns.
-  return keyframe;
+  sh_keyframe_ = keyframe.id;
+  sh_updates_ = keyframe.updates;
+}
+
+const ShRgb& LightEstimator::sh_of_active() {
+  const int id = keyframes_.active_id();
+  if (id < 0) return sh_;
+  const envmap::Keyframe& keyframe = *keyframes_.keyframes()[static_cast<std::size_t>(id)];
+  if (sh_keyframe_ == id && sh_updates_ == keyframe.updates) return sh_;
+  fill(keyframe);
+  project_sh(keyframe);
+  return sh_;
 }
 
 bool LightEstimator::process(const FisheyeFrame& frame, const Trajectory& rig) {
@@ -129,6 +164,7 @@ bool LightEstimator::process(const FisheyeFrame& frame, const Trajectory& rig) {
 }
 
 envmap::ImageRGBAF LightEstimator::download(const envmap::Keyframe& keyframe) {
+  fill(keyframe);
   return keyframe.texels.download(ctx_.queue());
 }
 

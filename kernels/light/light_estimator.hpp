@@ -37,6 +37,12 @@ struct LightEstimatorConfig {
   // Wait for the queue after each stage so that last_timings() holds each stage's time (what
   // `bench light` reports); false: one wait, at the SH download.
   bool time_stages = true;
+  // Push-pull and the SH after every frame (what `bench light` and the tests time); false: only
+  // when sh_of_active() or download() asks. The service's 4 Hz snapshots are the only readers
+  // of both, and push-pull leaves observed texels unchanged and fills the others from them
+  // alone, so filling at the reader gives the same texels: 3.6 of the 9.5 CPU-ms per fisheye
+  // frame at 192 px faces saved ~46 times a second (docs/performance.md).
+  bool fill_every_frame = true;
 };
 
 // One step of process(): wall-clock time and the process's CPU time (all threads, the
@@ -68,9 +74,12 @@ class LightEstimator {
 
   // SH (5 bands) of the keyframe last updated, after push-pull; seen from sh_position when
   // that and a room are configured.
+  // With fill_every_frame = false it is the one sh_of_active() last computed.
   const ShRgb& sh() const { return sh_; }
+  // Push-pull and the SH of the keyframe last updated, unless done since its last update.
+  const ShRgb& sh_of_active();
   const envmap::KeyframeSet& keyframes() const { return keyframes_; }
-  // Host copy of a keyframe's texels (blocking).
+  // Host copy of a keyframe's texels after push-pull (blocking).
   envmap::ImageRGBAF download(const envmap::Keyframe& keyframe);
   // Steps: upload, update (conversion included), push_pull, sh; and the total.
   const LightTimings& last_timings() const { return timings_; }
@@ -92,7 +101,15 @@ class LightEstimator {
   DeviceImage<std::uint16_t, 3> raw_;
   DeviceImage<float, 4> small_;
   envmap::ImageRGBAF small_host_;
+  // Push-pull of a keyframe unless done since its last update (enqueues only).
+  void fill(const envmap::Keyframe& keyframe);
+  void project_sh(const envmap::Keyframe& keyframe);  // downsample, download (waits), SH
+
   ShRgb sh_;
+  // Per keyframe id, its `updates` at its last push-pull; the SH's keyframe and `updates`.
+  std::map<int, std::uint64_t> filled_at_;
+  int sh_keyframe_ = -1;
+  std::uint64_t sh_updates_ = 0;
   LightTimings timings_;
 };
 

@@ -4,8 +4,10 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <string_view>
 #include <thread>
 
@@ -49,6 +51,32 @@ class JpegSink final : public Output {
   int quality_;
 };
 
+// CPU time per thread group so far (ms), from /proc/self/task/*/schedstat (ns on the CPU):
+// the pipeline names its threads pl-* (app/pipeline/thread_name.hpp); Mesa's are llvmpipe-N;
+// the rest are PoCL's workers (every OpenCL kernel: matte, composite, light update; they take
+// the name of the thread that built the first context, so the pipeline names its threads
+// after that) and the main thread, which sleeps.
+std::map<std::string, double> cpu_ms_by_thread() {
+  std::map<std::string, double> out;
+  std::error_code ec;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task", ec)) {
+    std::ifstream comm_file(task.path() / "comm"), sched_file(task.path() / "schedstat");
+    std::string comm;
+    double ns = 0;
+    if (!std::getline(comm_file, comm) || !(sched_file >> ns)) continue;  // ended meanwhile
+    std::string group = "pocl";
+    if (comm.starts_with("pl-"))
+      group = comm.substr(3);
+    else if (comm.starts_with("llvmpipe"))
+      group = "llvmpipe";
+    out[group] += ns * 1e-6;
+  }
+  return out;
+}
+
+// Frames processed after the timed ones, so that timing ends in the steady state.
+constexpr std::int64_t kTail = 10;
+
 void run_bench(const BenchArgs& args) {
   ServiceConfig config =
       args.config_path.empty() ? ServiceConfig{} : load_service_config(args.config_path);
@@ -60,12 +88,12 @@ void run_bench(const BenchArgs& args) {
     // of wall time that covers runs down to 50 * (frames + warm-up) / fps ... >= the RGB-D
     // count at >= 50 fps; beyond them the sim renders live again.
     config.source += (config.source.find(':') == std::string::npos ? ":" : ",") +
-                     fmt::format("prerender={}", args.frames + args.warmup);
+                     fmt::format("prerender={}", args.frames + args.warmup + kTail);
   }
   config.occlusion_method = args.occlusion;
   config.tracking.method = args.tracking;
   config.tracking.device = args.tracking_device;
-  config.max_frames = args.frames + args.warmup;
+  config.max_frames = args.frames + args.warmup + kTail;
   PipelineOptions options;
   options.lossless = true;
   options.serve_http = false;
@@ -81,14 +109,18 @@ void run_bench(const BenchArgs& args) {
   const auto out0 = pipeline.frames_out();
   const auto t0 = std::chrono::steady_clock::now();
   const double cpu0 = process_cpu_ms();
-  pipeline.wait_finished(std::chrono::hours(1));
-  // The output thread encodes the last frame after processing finished: give it a moment.
-  for (int i = 0; i < 100 && pipeline.frames_out() < pipeline.frames_processed(); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  const auto threads0 = cpu_ms_by_thread();
+  // The timed frames end while the pipeline still runs (kTail): the threads are all there to
+  // be read, and the last frames are timed in the steady state, not while it drains.
+  const auto last = static_cast<std::uint64_t>(args.warmup + args.frames);
+  while (pipeline.frames_out() < last && !pipeline.finished())
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const auto out = pipeline.frames_out() - out0;
+  const auto out = std::min(pipeline.frames_out(), last) - out0;
   const double cpu_ms = process_cpu_ms() - cpu0;
+  const auto threads1 = cpu_ms_by_thread();
+  pipeline.wait_finished(std::chrono::hours(1));
   const nlohmann::json light = pipeline.status().value("light", nlohmann::json::object());
   pipeline.stop();
   if (auto err = pipeline.fatal_error()) throw CommandError(*err);
@@ -99,6 +131,15 @@ void run_bench(const BenchArgs& args) {
   // All threads (sim, render, OpenCL, encode): on N cores the pipeline cannot beat
   // N * 1000 / cpu_ms_per_frame fps, whatever else the machine does.
   j["cpu_ms_per_frame"] = out ? cpu_ms / static_cast<double>(out) : 0.0;
+  // Where it went (the fisheye thread includes the sim's exposure of its frames, which a
+  // camera does not cost; the light's per frame depends on the fps: it runs 50 times a second).
+  nlohmann::json by_thread = nlohmann::json::object();
+  for (const auto& [group, ms] : threads1) {
+    const auto before = threads0.find(group);
+    const double spent = ms - (before == threads0.end() ? 0.0 : before->second);
+    by_thread[group] = out ? spent / static_cast<double>(out) : 0.0;
+  }
+  j["cpu_ms_per_frame_by_thread"] = by_thread;
   j["source"] = config.source;
   // The light thread's load is per second of wall time (the fisheye runs at 50 frames/s of
   // it), not per RGB-D frame: say how much of it the run carried.
@@ -134,6 +175,10 @@ void run_bench(const BenchArgs& args) {
   std::cout << fmt::format("  cpu {:.2f} ms/frame over all threads ({} cores: <= {:.0f} fps)\n",
                            j["cpu_ms_per_frame"].get<double>(), cores,
                            cores * 1000.0 / std::max(j["cpu_ms_per_frame"].get<double>(), 1e-3));
+  std::cout << "  cpu ms/frame by thread:";
+  for (const auto& [group, ms] : by_thread.items())
+    std::cout << fmt::format(" {} {:.2f}", group, ms.get<double>());
+  std::cout << "\n";
   std::cout << fmt::format("  {:<16} {:>8} {:>8}\n", "stage", "p50 ms", "p99 ms");
   for (const auto& [name, s] : stages.items())
     std::cout << fmt::format("  {:<16} {:>8.2f} {:>8.2f}\n", name, s["p50_ms"].get<double>(),
