@@ -11,6 +11,7 @@
 
 #include "core/camera/kannala_brandt.hpp"
 #include "core/camera/pinhole.hpp"
+#include "lab/calib/kannala_brandt_refine.hpp"
 
 namespace probeless::calib {
 namespace {
@@ -210,6 +211,8 @@ Intrinsics calibrate_intrinsics(const std::vector<BoardView>& views, LensModel m
       out.rms_px = std::sqrt(sum / static_cast<double>(n));
     }
   }
+
+  if (model == LensModel::KannalaBrandt) out = refine_kannala_brandt(views, out);
 
   const double spread = out.tilt_spread_deg = tilt_spread_deg(out.views);
   if (spread < kMinTiltSpreadDeg)
