@@ -87,12 +87,13 @@ namespace {
 Intrinsics solve(const std::vector<BoardView>& views, LensModel model) {
   const Correspondences c = correspondences(views);
   const cv::Size size(views.front().width, views.front().height);
-  cv::Mat K, D;
+  cv::Mat K, D, std_intrinsics;
   std::vector<cv::Vec3d> rvecs, tvecs;
   try {
     if (model == LensModel::Pinhole) {
       cv::calibrateCamera(
-          c.points, c.pixels, size, K, D, rvecs, tvecs, 0,
+          c.points, c.pixels, size, K, D, rvecs, tvecs, std_intrinsics, cv::noArray(),
+          cv::noArray(), 0,
           cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
     } else {
       // cv::fisheye wants 1xN arrays of 3- and 2-channel points.
@@ -130,6 +131,13 @@ Intrinsics solve(const std::vector<BoardView>& views, LensModel model) {
   out.cx = K.at<double>(0, 2);
   out.cy = K.at<double>(1, 2);
   out.distortion.assign(D.begin<double>(), D.end<double>());
+  if (!std_intrinsics.empty()) {
+    // OpenCV's order: fx fy cx cy k1 k2 p1 p2 k3 k4 k5 k6 s1..s4 tx ty; the model fits 9.
+    std_intrinsics.convertTo(std_intrinsics, CV_64F);
+    const auto n = std::min<std::size_t>(4 + out.distortion.size(), std_intrinsics.total());
+    out.std_dev.assign(std_intrinsics.begin<double>(),
+                       std_intrinsics.begin<double>() + static_cast<long>(n));
+  }
   if (!std::isfinite(out.fx) || !std::isfinite(out.fy) || !(out.fx > 0) || !(out.fy > 0))
     throw CalibrationError(
         fmt::format("the {} calibration gave no usable focal length (fx {}, fy {}): the views "
