@@ -90,7 +90,7 @@ TEST(CornerBias, ChArUcoCornersAreWhereTheSimProjectsThem) {
       fish.add(*v, fisheye, *raw.truth->rig_pose * rig.calibration.T_rig_fisheye,
                {fisheye.params().cx, fisheye.params().cy});
   }
-  EXPECT_EQ(colour.views, 27);
+  EXPECT_EQ(colour.views, 41);
   EXPECT_EQ(fish.views, 36);
   // Measured: colour 0.08 px RMS; fisheye 0.07-0.19 px RMS, growing towards the rim where a
   // marker cell is 4-6 px; every band's mean under 0.04 px. Was 0.70 px RMS and +0.5 px in x
