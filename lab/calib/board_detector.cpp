@@ -36,6 +36,39 @@ void refine_corners(const cv::Mat& gray, std::vector<cv::Point2f>& corners, doub
                    cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 50, 1e-3));
 }
 
+// OpenCV 4.6's interpolateCornersCharuco leaves its corners about where the markers' contours
+// put them: measured against their true projections on the sim's board, +0.5 px in x and in
+// y in both cameras at every angle off the axis (0.70 px RMS; tests/integration/calibrate_sim
+// corner_bias_test.cpp), which cost the rig extrinsics 0.18 deg (docs/calibration.md "Checked
+// on the sim"). Its refinement passes the window it computed per corner as cornerSubPix's dead
+// zone and its default size as the window (aruco/src/charuco.cpp,
+// _selectAndRefineChessboardCorners). So each corner is refined again as OpenCV meant, with
+// its aruco defaults (11 x 11 window, 30 iterations, 0.1 px), the window kept inside the white
+// border between the corner and the nearest marker corners: that border is a square of half
+// their distance / sqrt 2 in board units, so half their distance holds it at any rotation.
+// Measured: the same corners to 0.08 px RMS (colour), 0.07-0.19 px (fisheye, rim last), means
+// under 0.04 px. A larger window (up to 10 px) or a tighter stop moved the four tutorial
+// views' fx or cy by 2-4 %: four nearly parallel views (docs/calibration.md "Results").
+void refine_charuco_corners(const cv::Mat& gray,
+                            const std::vector<std::vector<cv::Point2f>>& marker_corners,
+                            std::vector<cv::Point2f>& corners) {
+  const auto defaults = cv::aruco::DetectorParameters::create();
+  const cv::TermCriteria stop(cv::TermCriteria::EPS + cv::TermCriteria::COUNT,
+                              defaults->cornerRefinementMaxIterations,
+                              defaults->cornerRefinementMinAccuracy);
+  for (cv::Point2f& c : corners) {
+    double nearest = 1e9;
+    for (const auto& marker : marker_corners)
+      for (const cv::Point2f& m : marker)
+        nearest = std::min(nearest, static_cast<double>(cv::norm(m - c)));
+    const int half = std::clamp(static_cast<int>(0.5 * nearest), 2,
+                                std::max(2, defaults->cornerRefinementWinSize));
+    std::vector<cv::Point2f> one{c};
+    cv::cornerSubPix(gray, one, cv::Size(half, half), cv::Size(-1, -1), stop);
+    c = one[0];
+  }
+}
+
 std::optional<std::vector<cv::Point2f>> find_chessboard(const cv::Mat& gray, int cols, int rows) {
   std::vector<cv::Point2f> corners;
   const cv::Size pattern(cols, rows);
@@ -105,10 +138,7 @@ std::optional<BoardView> BoardDetector::detect(const ImageGray8& image,
   std::vector<cv::Point2f> corners;
   std::vector<int> ids;
   cv::aruco::interpolateCornersCharuco(marker_corners, marker_ids, gray, board, corners, ids);
-  // interpolateCornersCharuco refines the corners itself (cornerSubPix in a window kept clear
-  // of the markers). Refining them again in our own window moved fx of the four tutorial
-  // views by 3.5 %: those views are nearly parallel (docs/calibration.md "Results"), and the
-  // quality bar is OpenCV's own ChArUco pipeline, so its corners are taken as they are.
+  refine_charuco_corners(gray, marker_corners, corners);
   if (static_cast<int>(ids.size()) < kMinCharucoCorners) return std::nullopt;
   std::set<int> columns, rows;
   for (int id : ids) {

@@ -11,6 +11,7 @@
 
 #include "core/camera/kannala_brandt.hpp"
 #include "core/camera/pinhole.hpp"
+#include "lab/calib/kannala_brandt_refine.hpp"
 
 namespace probeless::calib {
 namespace {
@@ -86,12 +87,13 @@ namespace {
 Intrinsics solve(const std::vector<BoardView>& views, LensModel model) {
   const Correspondences c = correspondences(views);
   const cv::Size size(views.front().width, views.front().height);
-  cv::Mat K, D;
+  cv::Mat K, D, std_intrinsics;
   std::vector<cv::Vec3d> rvecs, tvecs;
   try {
     if (model == LensModel::Pinhole) {
       cv::calibrateCamera(
-          c.points, c.pixels, size, K, D, rvecs, tvecs, 0,
+          c.points, c.pixels, size, K, D, rvecs, tvecs, std_intrinsics, cv::noArray(),
+          cv::noArray(), 0,
           cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-12));
     } else {
       // cv::fisheye wants 1xN arrays of 3- and 2-channel points.
@@ -129,6 +131,13 @@ Intrinsics solve(const std::vector<BoardView>& views, LensModel model) {
   out.cx = K.at<double>(0, 2);
   out.cy = K.at<double>(1, 2);
   out.distortion.assign(D.begin<double>(), D.end<double>());
+  if (!std_intrinsics.empty()) {
+    // OpenCV's order: fx fy cx cy k1 k2 p1 p2 k3 k4 k5 k6 s1..s4 tx ty; the model fits 9.
+    std_intrinsics.convertTo(std_intrinsics, CV_64F);
+    const auto n = std::min<std::size_t>(4 + out.distortion.size(), std_intrinsics.total());
+    out.std_dev.assign(std_intrinsics.begin<double>(),
+                       std_intrinsics.begin<double>() + static_cast<long>(n));
+  }
   if (!std::isfinite(out.fx) || !std::isfinite(out.fy) || !(out.fx > 0) || !(out.fy > 0))
     throw CalibrationError(
         fmt::format("the {} calibration gave no usable focal length (fx {}, fy {}): the views "
@@ -210,6 +219,8 @@ Intrinsics calibrate_intrinsics(const std::vector<BoardView>& views, LensModel m
       out.rms_px = std::sqrt(sum / static_cast<double>(n));
     }
   }
+
+  if (model == LensModel::KannalaBrandt) out = refine_kannala_brandt(views, out);
 
   const double spread = out.tilt_spread_deg = tilt_spread_deg(out.views);
   if (spread < kMinTiltSpreadDeg)

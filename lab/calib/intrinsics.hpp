@@ -62,8 +62,12 @@ struct Intrinsics {
   double fx = 0, fy = 0, cx = 0, cy = 0;
   std::vector<double> distortion;  // pinhole: k1 k2 p1 p2 k3; Kannala-Brandt: k1 k2 k3 k4
   double rms_px = 0;               // over all corners of the views in the fit
-  double tilt_spread_deg = 0;      // the largest angle between two views' board normals
-  std::vector<ViewFit> views;      // in the order of the views given
+  // Pinhole: cv::calibrateCamera's standard deviations of fx fy cx cy k1 k2 p1 p2 k3 (px and
+  // unitless), from its Jacobian and the residuals; how well the views pin each term down.
+  // Empty for Kannala-Brandt (cv::fisheye::calibrate reports none).
+  std::vector<double> std_dev;
+  double tilt_spread_deg = 0;  // the largest angle between two views' board normals
+  std::vector<ViewFit> views;  // in the order of the views given
   // Kannala-Brandt: the lens's image circle in focal lengths from the centre (image_circle.hpp),
   // where the model's domain ends; 0: the image is filled, the domain ends at its corners.
   double image_circle = 0;

@@ -30,7 +30,7 @@ struct Options {
   std::string images, board, model = "pinhole", camera_out, views_out, json;
   std::string import_ocam;
   std::string recording, rgb_images, fisheye_images, out, intrinsics;
-  int max_views = 40;
+  int max_views = 80;  // the sim's calibration script is 59 views (docs/calibration.md)
 };
 
 void progress(const std::string& line) {
@@ -50,19 +50,28 @@ nlohmann::json intrinsics_json(const Intrinsics& in) {
                      {"corners", v.corners},
                      {"tilt_deg", v.tilt_deg},
                      {"used", v.in_fit}});
-  return {{"model", lens_model_name(in.model)},
-          {"width", in.width},
-          {"height", in.height},
-          {"fx", in.fx},
-          {"fy", in.fy},
-          {"cx", in.cx},
-          {"cy", in.cy},
-          {"distortion", in.distortion},
-          {"rms_px", in.rms_px},
-          {"tilt_spread_deg", in.tilt_spread_deg},
-          {"views_used", std::count_if(in.views.begin(), in.views.end(),
-                                       [](const ViewFit& v) { return v.in_fit; })},
-          {"views", views}};
+  nlohmann::json out = {{"model", lens_model_name(in.model)},
+                        {"width", in.width},
+                        {"height", in.height},
+                        {"fx", in.fx},
+                        {"fy", in.fy},
+                        {"cx", in.cx},
+                        {"cy", in.cy},
+                        {"distortion", in.distortion},
+                        {"rms_px", in.rms_px},
+                        {"tilt_spread_deg", in.tilt_spread_deg},
+                        {"views_used", std::count_if(in.views.begin(), in.views.end(),
+                                                     [](const ViewFit& v) { return v.in_fit; })},
+                        {"views", views}};
+  // OpenCV's standard deviations (pinhole only): fx fy cx cy, then the distortion's terms.
+  if (!in.std_dev.empty())
+    out["std_dev"] = {
+        {"fx", in.std_dev[0]},
+        {"fy", in.std_dev[1]},
+        {"cx", in.std_dev[2]},
+        {"cy", in.std_dev[3]},
+        {"distortion", std::vector<double>(in.std_dev.begin() + 4, in.std_dev.end())}};
+  return out;
 }
 
 nlohmann::json pose_json(const Pose& p) {
@@ -77,6 +86,9 @@ void print_intrinsics(const std::string& what, const Intrinsics& in) {
       "px over {} views\n",
       what, lens_model_name(in.model), in.width, in.height, in.fx, in.fy, in.cx, in.cy,
       fmt::join(in.distortion, ", "), in.rms_px, in.views.size());
+  if (!in.std_dev.empty())
+    std::cout << fmt::format("  standard deviations: fx {:.2f} fy {:.2f} cx {:.2f} cy {:.2f} px\n",
+                             in.std_dev[0], in.std_dev[1], in.std_dev[2], in.std_dev[3]);
   if (in.tilt_spread_deg < kWeakTiltSpreadDeg)
     progress(fmt::format(
         "warning: the {} views' boards differ in orientation by at most {:.1f} deg, so the "

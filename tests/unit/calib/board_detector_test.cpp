@@ -15,11 +15,10 @@ ImageGray8 with_margin(const ImageGray8& print, int margin) {
   return out;
 }
 
-// `tolerance_px`: OpenCV's ChArUco refinement leaves the corners of a perfectly sharp print
-// where the markers' integer contours put them, half a pixel off (0.73 px measured); on real
-// and rendered (anti-aliased) images they are refined normally.
-void expect_corners_where_the_print_says(const std::string& spec_text, double origin_squares,
-                                         double tolerance_px) {
+// OpenCV 4.6's own ChArUco corners were half a pixel off in x and y here (0.73 px); refined
+// again as it meant to (board_detector.cpp) they are within 0.014 px.
+void expect_corners_where_the_print_says(const std::string& spec_text, double origin_squares) {
+  constexpr double kTolerancePx = 0.05;
   const BoardSpec spec = parse_board_spec(spec_text);
   constexpr int kPx = 40;
   const ImageGray8 image = with_margin(board_image(spec, kPx), kPx);
@@ -33,19 +32,19 @@ void expect_corners_where_the_print_says(const std::string& spec_text, double or
     const Eigen::Vector2d expected =
         (view->points[i].head<2>() / square + Eigen::Vector2d::Constant(origin_squares)) * kPx -
         Eigen::Vector2d::Constant(0.5) + Eigen::Vector2d::Constant(kPx);
-    EXPECT_LT((view->pixels[i] - expected).norm(), tolerance_px)
+    EXPECT_LT((view->pixels[i] - expected).norm(), kTolerancePx)
         << spec_text << " corner " << view->ids[i] << " at " << view->pixels[i].transpose()
         << ", expected " << expected.transpose();
   }
 }
 
 TEST(BoardDetector, FindsEveryCharucoCornerOfItsOwnPrint) {
-  expect_corners_where_the_print_says("charuco:5x7:40:20:6x6_250", 0, 0.75);
-  expect_corners_where_the_print_says("charuco:7x5:50:37:4x4_50", 0, 0.75);
+  expect_corners_where_the_print_says("charuco:5x7:40:20:6x6_250", 0);
+  expect_corners_where_the_print_says("charuco:7x5:50:37:4x4_50", 0);
 }
 
 TEST(BoardDetector, FindsEveryChessboardCornerOfItsOwnPrint) {
-  expect_corners_where_the_print_says("chessboard:9x6:25", 1, 0.1);
+  expect_corners_where_the_print_says("chessboard:9x6:25", 1);
 }
 
 TEST(BoardDetector, FindsNothingInABlankImage) {
