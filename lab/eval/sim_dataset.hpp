@@ -31,8 +31,8 @@ SimProtocolOptions parse_sim_protocol(std::string_view options);
 // One case, "sim/<trajectory>[+near]", of options.frames frames. Needs EGL (the renderer).
 std::vector<EvalCase> sim_cases(const SimProtocolOptions& options);
 
-// The near band's definition, for tests: evaluated pixels within `radius` (Chebyshev) of a
-// pixel whose clean depth is below `min_depth_mm` (in front of the sensor's range).
+// 255 on every pixel within `radius` (Chebyshev) of a non-zero pixel of `seeds`, else 0: the
+// contact and near-occluder bands before they are cut to the evaluated pixels.
 ImageGray8 dilate_mask(const ImageGray8& seeds, int radius);
 
 }  // namespace probeless::eval
