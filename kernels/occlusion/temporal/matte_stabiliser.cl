@@ -12,17 +12,27 @@ typedef struct {
   float history_weight, colour_range, depth_tol_mm, depth_tol_rel;
 } Motion;
 
-__kernel void stabilise_matte(__global const float* alpha, __global const uchar* colour,
+// In place: each work-item reads and writes only its own pixel of `alpha`.
+// One bilinear tap of the previous frame, counted only where it held the object (the same
+// order of additions as the reference's loop).
+inline void tap(__global const float* prev_alpha, __global const uchar* prev_colour,
+                __global const float* prev_virt, int t, float wt, float4* acc, float* sw) {
+  if (!(prev_virt[t] > 0.0f)) return;
+  *sw += wt;
+  *acc += wt * (float4)(prev_alpha[t], (float)prev_colour[3 * t], (float)prev_colour[3 * t + 1],
+                        (float)prev_colour[3 * t + 2]);
+}
+
+__kernel void stabilise_matte(__global float* alpha, __global const uchar* colour,
                               __global const ushort* real_depth, __global const float* virt,
                               __global const float* prev_alpha, __global const uchar* prev_colour,
                               __global const ushort* prev_depth, __global const float* prev_virt,
-                              __global float* out, int width, int height, Motion m) {
+                              int width, int height, Motion m) {
   const int x = get_global_id(0);
   const int y = get_global_id(1);
   if (x >= width || y >= height) return;
   const int i = y * width + x;
   const float a = alpha[i];
-  out[i] = a;
   const float v = virt[i];
   if (!(v > 0.0f)) return;
   const ushort d = real_depth[i];
@@ -43,18 +53,13 @@ __kernel void stabilise_matte(__global const float* alpha, __global const uchar*
   const int x0 = min((int)u, max(width - 2, 0)), y0 = min((int)w, max(height - 2, 0));
   const int x1 = min(x0 + 1, width - 1), y1 = min(y0 + 1, height - 1);
   const float fu = u - (float)x0, fw = w - (float)y0;
-  const int taps[4] = {y0 * width + x0, y0 * width + x1, y1 * width + x0, y1 * width + x1};
-  const float wts[4] = {(1.0f - fu) * (1.0f - fw), fu * (1.0f - fw), (1.0f - fu) * fw, fu * fw};
-  float sw = 0.0f, sa = 0.0f, sr = 0.0f, sg = 0.0f, sb = 0.0f;
-  for (int k = 0; k < 4; ++k) {
-    const int t = taps[k];
-    if (!(prev_virt[t] > 0.0f)) continue;
-    sw += wts[k];
-    sa += wts[k] * prev_alpha[t];
-    sr += wts[k] * (float)prev_colour[3 * t];
-    sg += wts[k] * (float)prev_colour[3 * t + 1];
-    sb += wts[k] * (float)prev_colour[3 * t + 2];
-  }
+  float4 acc = (float4)(0.0f);  // matte, r, g, b, weighted
+  float sw = 0.0f;
+  tap(prev_alpha, prev_colour, prev_virt, y0 * width + x0, (1.0f - fu) * (1.0f - fw), &acc, &sw);
+  tap(prev_alpha, prev_colour, prev_virt, y0 * width + x1, fu * (1.0f - fw), &acc, &sw);
+  tap(prev_alpha, prev_colour, prev_virt, y1 * width + x0, (1.0f - fu) * fw, &acc, &sw);
+  tap(prev_alpha, prev_colour, prev_virt, y1 * width + x1, fu * fw, &acc, &sw);
+  const float sa = acc.x, sr = acc.y, sg = acc.z, sb = acc.w;
   if (!(sw > 1e-6f)) return;
   const float dr = (sr / sw - (float)colour[3 * i]) / 255.0f;
   const float dg = (sg / sw - (float)colour[3 * i + 1]) / 255.0f;
@@ -62,5 +67,5 @@ __kernel void stabilise_matte(__global const float* alpha, __global const uchar*
   const float c = (dr * dr + dg * dg + db * db) / (m.colour_range * m.colour_range);
   if (!(c < 1.0f)) return;
   const float h = m.history_weight * (1.0f - c);
-  out[i] = (1.0f - h) * a + h * (sa / sw);
+  alpha[i] = (1.0f - h) * a + h * (sa / sw);
 }

@@ -63,7 +63,6 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
     m.colour_range = params_.colour_range;
     m.depth_tol_mm = params_.depth_tolerance_mm;
     m.depth_tol_rel = params_.depth_tolerance_rel;
-    out_.resize(ctx_.context(), w, h);
     int a = 0;
     kernel_.setArg(a++, alpha.buffer());
     kernel_.setArg(a++, in.colour->buffer());
@@ -73,12 +72,10 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
     kernel_.setArg(a++, prev_colour_.buffer());
     kernel_.setArg(a++, prev_depth_.buffer());
     kernel_.setArg(a++, prev_virtual_.buffer());
-    kernel_.setArg(a++, out_.buffer());
     kernel_.setArg(a++, w);
     kernel_.setArg(a++, h);
     kernel_.setArg(a++, sizeof(m), &m);
     ctx_.run_2d(kernel_, w, h);
-    copy_image(ctx_, out_, alpha);
   }
   // This frame becomes the previous one: its inputs and its stabilised matte.
   copy_image(ctx_, alpha, prev_alpha_);

@@ -34,7 +34,7 @@ class MatteStabiliser {
   std::optional<Pose> previous_pose_;
   DeviceImage<std::uint8_t, 3> prev_colour_;
   DeviceImage<std::uint16_t, 1> prev_depth_;
-  DeviceImage<float, 1> prev_virtual_, prev_alpha_, out_;
+  DeviceImage<float, 1> prev_virtual_, prev_alpha_;
 };
 
 }  // namespace probeless::occlusion
