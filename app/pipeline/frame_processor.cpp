@@ -38,7 +38,8 @@ FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration
       render_(make_scene_objects(config.objects, config.ground, default_prt_cache_dir()),
               calibration.rgb.intrinsics(), std::move(light)),
       upload_(*ctx_, calibration.rgb),
-      occlusion_(*ctx_, occlusion::make_method(*ctx_, config.occlusion_method)),
+      occlusion_(*ctx_, occlusion::make_method(*ctx_, config.occlusion_method),
+                 config.occlusion_stabilise, calibration.rgb.intrinsics()),
       composite_(*ctx_),
       download_(*ctx_, keep_matte),
       localiser_(config.tracking, config.world, calibration, ctx_.get()),
@@ -98,6 +99,7 @@ CompositeFrame FrameProcessor::compose(const RgbdFrame& frame, const Located& lo
   const auto& frame_start = located.started;
   const std::optional<Pose>& T_world_rig = located.T_world_rig;
   if (!T_world_rig) {
+    occlusion_.skip_frame();
     CompositeFrame out = camera_only(frame, located.status);
     stats.record("frame", ms_since(frame_start));
     return out;
@@ -105,7 +107,7 @@ CompositeFrame FrameProcessor::compose(const RgbdFrame& frame, const Located& lo
   const Pose T_world_camera = *T_world_rig * calibration_.T_rig_rgb;
   const VirtualLayer layer = timed(stats, render_, T_world_camera);
   const DeviceFrame device = timed(stats, upload_, frame, layer);
-  const DeviceImageF& matte = timed(stats, occlusion_, device);
+  const DeviceImageF& matte = timed(stats, occlusion_, device, T_world_camera);
   const DeviceImageRGB8& composite = timed(stats, composite_, device, matte);
   HostImages host = timed(stats, download_, composite, matte);
   stats.record("frame", ms_since(frame_start));

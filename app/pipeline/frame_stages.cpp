@@ -92,9 +92,19 @@ DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& lay
   return out;
 }
 
-const DeviceImageF& OcclusionStage::process(const DeviceFrame& frame) {
+OcclusionStage::OcclusionStage(ComputeContext& ctx,
+                               std::unique_ptr<occlusion::OcclusionMethod> method, bool stabilise,
+                               const PinholeIntrinsics& intrinsics)
+    : ctx_(ctx), method_(std::move(method)), intrinsics_(intrinsics) {
+  if (stabilise) stabiliser_.emplace(ctx);
+}
+
+const DeviceImageF& OcclusionStage::process(const DeviceFrame& frame,
+                                            const std::optional<Pose>& T_world_camera) {
   alpha_.resize(ctx_.context(), frame.colour->width(), frame.colour->height());
-  method_->process({frame.colour, frame.real_depth, frame.virtual_depth}, alpha_);
+  const occlusion::OcclusionInputs in{frame.colour, frame.real_depth, frame.virtual_depth};
+  method_->process(in, alpha_);
+  if (stabiliser_) stabiliser_->process(in, intrinsics_, T_world_camera, alpha_);
   return alpha_;
 }
 

@@ -26,6 +26,7 @@
 #include "kernels/composite/compositor.hpp"
 #include "kernels/composite/hdr_compositor.hpp"
 #include "kernels/occlusion/common/occlusion_method.hpp"
+#include "kernels/occlusion/temporal/matte_stabiliser.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_image.hpp"
 #include "kernels/undistort/undistort.hpp"
@@ -124,16 +125,28 @@ class UploadStage {
 
 class OcclusionStage {
  public:
-  OcclusionStage(ComputeContext& ctx, std::unique_ptr<occlusion::OcclusionMethod> method)
-      : ctx_(ctx), method_(std::move(method)) {}
+  // With `stabilise`, the method's matte is then stabilised in time (kernels/occlusion/
+  // temporal: the previous matte re-projected with the camera's motion and the depth).
+  OcclusionStage(ComputeContext& ctx, std::unique_ptr<occlusion::OcclusionMethod> method,
+                 bool stabilise = false, const PinholeIntrinsics& intrinsics = {});
   static constexpr const char* name = "occlusion";
   // The matte: alpha of the virtual layer per pixel, the colour image's size.
-  const DeviceImageF& process(const DeviceFrame& frame);
+  // `T_world_camera`: the colour camera's pose this frame (the tracked one); none: the
+  // stabiliser takes the camera as not having moved.
+  const DeviceImageF& process(const DeviceFrame& frame,
+                              const std::optional<Pose>& T_world_camera = std::nullopt);
+  // A frame without a matte (pose lost): the next matte does not lean on an older one.
+  void skip_frame() {
+    if (stabiliser_) stabiliser_->reset();
+  }
   std::string method_name() const { return method_->name(); }
+  bool stabilises() const { return stabiliser_.has_value(); }
 
  private:
   ComputeContext& ctx_;
   std::unique_ptr<occlusion::OcclusionMethod> method_;
+  std::optional<occlusion::MatteStabiliser> stabiliser_;
+  PinholeIntrinsics intrinsics_;
   DeviceImageF alpha_;
 };
 

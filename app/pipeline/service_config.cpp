@@ -126,8 +126,9 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     for (const auto& item : *arr) c.objects.push_back(parse_object(r, *item.as_table()));
   }
   if (auto* t = r.optional_table(root, "occlusion")) {
-    r.only(*t, "[occlusion]", {"method"});
+    r.only(*t, "[occlusion]", {"method", "stabilise"});
     r.get(*t, "method", c.occlusion_method);
+    r.get(*t, "stabilise", c.occlusion_stabilise);
   }
   if (auto* t = r.optional_table(root, "tracking")) {
     r.only(*t, "[tracking]",

@@ -99,7 +99,7 @@ void SimFisheyeSource::render_scene(std::int64_t index, Scene& scene, bool keep_
   const double t = pacer_.seconds(index);
   const Pose rig = world_->rig_pose(options_.trajectory, t);
   const int lamps = SimWorld::lamp_state(t);
-  const Occluder arm = world_->occluder(t, (rig * geometry_.T_rig_rgb).translation);
+  const Occluder arm = scene_occluders(*world_, options_, t, rig * geometry_.T_rig_rgb);
   renderer_.render(rig * geometry_.T_rig_fisheye, lamps, arm_in_view(options_, arm), false);
   if (keep_radiance) scene.radiance = renderer_.radiance();
   if (options_.ground_truth) {

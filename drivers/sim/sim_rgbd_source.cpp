@@ -119,7 +119,7 @@ const SimRgbdSource::Metering& SimRgbdSource::meter(std::int64_t index) {
   const double t = pacer_.seconds(index);
   const Pose rig = world_->rig_pose(options_.trajectory, t);
   const Pose camera = rig * geometry_.T_rig_rgb;
-  const Occluder arm = world_->occluder(t, camera.translation);
+  const Occluder arm = scene_occluders(*world_, options_, t, camera);
   meter_renderer_.render(camera, SimWorld::lamp_state(t), arm_in_view(options_, arm), false);
   const ImageRGBF& rad = meter_renderer_.radiance();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -153,7 +153,7 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
   const Pose rig = world_->rig_pose(options_.trajectory, t);
   const Pose camera = rig * geometry_.T_rig_rgb;
   const int lamps = SimWorld::lamp_state(t);
-  const Occluder arm = world_->occluder(t, camera.translation);
+  const Occluder arm = scene_occluders(*world_, options_, t, camera);
   renderer_.render(camera, lamps, arm_in_view(options_, arm), true);
 
   double gain;

@@ -106,6 +106,8 @@ SimOptions parse_sim_options(std::string_view spec) {
         bad(key, value, "static, orbit, handheld, tabletop or calibration");
     } else if (key == "board") {
       o.board = parse_bool(key, value);
+    } else if (key == "near_occluder") {
+      o.near_occluder = parse_bool(key, value);
     } else if (key == "fps" || key == "rgbd_fps") {
       o.rgbd_fps = parse_positive(key, value, 1000);
     } else if (key == "fisheye_fps") {
@@ -156,7 +158,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "frames, "
           "prerender, stall, "
           "truth, "
-          "threads, start, board)");
+          "threads, start, board, near_occluder)");
     }
   }
   return o;

@@ -64,6 +64,11 @@ struct SimOptions {
   // fisheye keeps its radiance and applies the requested exposure and the sensor noise per
   // read. Memory: ~1.5 MB per RGB-D frame (+ truth), 12 bytes per fisheye pixel.
   std::int64_t prerender = 0;
+  // A second moving occluder, a hand 0.25-0.45 m in front of the colour camera: closer than
+  // the depth sensor's minimum range, so it has no depth (SimWorld::near_hand; the occlusion
+  // evaluator's near-occluder protocol, docs/occlusion.md). Off by default: the frames
+  // without it are unchanged.
+  bool near_occluder = false;
 };
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
@@ -71,7 +76,8 @@ struct SimOptions {
 // (static|orbit|handheld|tabletop|calibration), fps (RGB-D), rgbd_fps, fisheye_fps, realtime,
 // fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file),
 // fisheye_ocam_model (ocam or kannala_brandt: that lens fitted), frames (max_frames), stall
-// (BEGIN:END), truth, threads, start (seconds of world time at the first frame).
+// (BEGIN:END), truth, threads, start (seconds of world time at the first frame),
+// near_occluder (0|1).
 SimOptions parse_sim_options(std::string_view spec);
 
 // Rig from drivers/source.hpp (rgbd + fisheye + calibration, and its scene: object_anchor()

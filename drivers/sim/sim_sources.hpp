@@ -19,6 +19,16 @@ inline const Occluder* arm_in_view(const SimOptions& options, const Occluder& ar
   return options.trajectory == TrajectoryKind::Calibration ? nullptr : &arm;
 }
 
+// Everything that moves in front of the room at time t: the arm, and the near hand when
+// SimOptions::near_occluder (placed from the colour camera's pose, so both sources agree).
+inline Occluder scene_occluders(const SimWorld& world, const SimOptions& options, double t,
+                                const Pose& T_world_rgb) {
+  Occluder o = world.occluder(t, T_world_rgb.translation);
+  if (options.near_occluder)
+    for (const Capsule& c : SimWorld::near_hand(t, T_world_rgb)) o.capsules.push_back(c);
+  return o;
+}
+
 // Frame index -> time and wall-clock pacing, shared by both sources' logic.
 class FramePacer {
  public:

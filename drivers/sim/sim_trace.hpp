@@ -196,7 +196,7 @@ inline Eigen::Vector3f shade_diffuse(const Ray& r, const Hit& hit, const SimWorl
                                      int lamp_state, const Occluder* occluder) {
   const Eigen::Vector3f p = r.o + hit.t * r.d;
   if (hit.kind == Hit::Kind::Patch) return patch_radiance(w.patches()[hit.index], lamp_state, p);
-  if (hit.kind == Hit::Kind::Occluder)
+  if (hit.kind == Hit::Kind::Occluder && occluder)
     return skin_radiance(w, lamp_state, p, capsule_normal(occluder->capsules[hit.index], p));
   return Eigen::Vector3f::Zero();
 }

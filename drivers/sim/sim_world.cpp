@@ -27,6 +27,9 @@ constexpr double kArmPeriod = 5.0;
 // 20 s: the board fills a third of the picture at ~1.1 m.
 constexpr double kTabletopHeight = 1.45, kTabletopRadius = 0.9;
 constexpr double kTabletopSwingDeg = 20.0, kTabletopPeriod = 20.0;
+// The near hand (near_occluder=1): over the middle of the view at t = 1.5 s + k 6 s, in view
+// from about t = 0.2 to 2.8 s of every period (the arm: 2 to 4.5 s of every 5).
+constexpr double kNearHandPeriod = 6.0;
 
 }  // namespace
 
@@ -116,10 +119,31 @@ Occluder SimWorld::occluder(double t, const Eigen::Vector3d& camera_centre) cons
   const Eigen::Vector3d elbow = hand + 0.27 * right + 0.04 * back - 0.05 * up;
   const Eigen::Vector3d shoulder = elbow + 0.25 * right + 0.05 * back + 0.18 * up;
   Occluder o;
-  o.capsules[0] = {fingers.cast<float>(), hand.cast<float>(), 0.04f};
-  o.capsules[1] = {hand.cast<float>(), elbow.cast<float>(), 0.045f};
-  o.capsules[2] = {elbow.cast<float>(), shoulder.cast<float>(), 0.055f};
+  o.capsules = {{fingers.cast<float>(), hand.cast<float>(), 0.04f},
+                {hand.cast<float>(), elbow.cast<float>(), 0.045f},
+                {elbow.cast<float>(), shoulder.cast<float>(), 0.055f}};
   return o;
+}
+
+std::vector<Capsule> SimWorld::near_hand(double t, const Pose& T_world_camera) {
+  // Camera frame (x right, y down, z forward), metres. At 0.3 m a 4.5 cm palm is ~80 px
+  // across: a hand held up in front of the camera, nearer than the sensor can measure.
+  const double phase = std::fmod(t / kNearHandPeriod, 1.0);
+  double x = 0.40;  // at rest: out of view to the right
+  if (phase < 0.5) {
+    const double s = std::sin(std::numbers::pi * phase / 0.5);
+    x = 0.40 - 0.43 * s * s;
+  }
+  const double y = 0.03 + 0.01 * std::sin(2 * std::numbers::pi * t / 1.3);
+  const Eigen::Vector3d palm(x, y, 0.30), fingers(x - 0.02, y - 0.08, 0.31);
+  const Eigen::Vector3d wrist(x + 0.03, y + 0.07, 0.31), elbow(x + 0.20, y + 0.30, 0.45);
+  const auto world = [&](const Eigen::Vector3d& p) -> Eigen::Vector3f {
+    const Eigen::Vector3d q = T_world_camera * p;
+    return q.cast<float>();
+  };
+  return {{world(fingers), world(palm), 0.035f},
+          {world(palm), world(wrist), 0.045f},
+          {world(wrist), world(elbow), 0.04f}};
 }
 
 Eigen::Vector3d object_anchor() {

@@ -56,9 +56,10 @@ struct PrimRef {
   std::uint8_t index;
 };
 
-// The moving occluder: a forearm, an upper arm and a hand.
+// The moving occluders: the arm (hand, forearm, upper arm), and with `near_occluder=1` a
+// hand close in front of the colour camera (hand, forearm) after them.
 struct Occluder {
-  std::array<Capsule, 3> capsules;
+  std::vector<Capsule> capsules;
 };
 
 // A rectangular emitter: centre +- u_half +- v_half, emitting towards `normal`; `radiance` is
@@ -86,6 +87,10 @@ class SimWorld {
   Pose rig_pose(TrajectoryKind kind, double t) const;
   // The arm at time t, placed relative to where the colour camera is.
   Occluder occluder(double t, const Eigen::Vector3d& camera_centre) const;
+  // The near hand at time t (SimOptions::near_occluder): a hand and forearm 0.25-0.45 m in
+  // front of the colour camera, closer than the depth sensor's 0.5 m minimum range, sweeping
+  // in from the right across the middle of the view every kNearHandPeriod seconds.
+  static std::vector<Capsule> near_hand(double t, const Pose& T_world_camera);
   // Radiance seen from light_probe_position(), computed once per lamp state.
   const std::shared_ptr<const Cubemap>& light(int lamp_state) const { return light_[lamp_state]; }
 

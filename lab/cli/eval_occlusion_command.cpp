@@ -24,6 +24,8 @@ struct Options {
   std::uint64_t seed = 1;
   int max_scenes = 0;
   int wide_subsample = 0;  // 0 = the method's default
+  bool stabilised = false;
+  std::string stabiliser;  // W:COLOUR:DEPTH_MM:DEPTH_REL
 };
 
 std::vector<std::string> split(const std::string& s) {
@@ -42,6 +44,16 @@ void run(const Options& o) {
   opts.seed = o.seed;
   opts.max_scenes = o.max_scenes;
   opts.plots_dir = o.plots;
+  opts.stabilised = o.stabilised;
+  if (!o.stabiliser.empty()) {
+    char c1 = 0, c2 = 0, c3 = 0;
+    auto& p = opts.stabiliser;
+    std::istringstream in(o.stabiliser);
+    if (!(in >> p.history_weight >> c1 >> p.colour_range >> c2 >> p.depth_tolerance_mm >> c3 >>
+          p.depth_tolerance_rel) ||
+        c1 != ':' || c2 != ':' || c3 != ':')
+      throw CommandError("--stabiliser: expected WEIGHT:COLOUR_RANGE:DEPTH_MM:DEPTH_REL");
+  }
   if (!o.crop.empty()) {
     char x = 0;
     std::istringstream in(o.crop);
@@ -70,8 +82,9 @@ void add_eval_occlusion_command(CLI::App& eval) {
   auto o = std::make_shared<Options>();
   auto* cmd = eval.add_subcommand(
       "occlusion", "Occlusion mattes of every method against ground truth (MSE, temporal noise)");
-  cmd->add_option("--dataset", o->dataset,
-                  "middlebury:DIR, alphamatting:DIR or frames:DIR (docs/occlusion.md)")
+  cmd->add_option(
+         "--dataset", o->dataset,
+         "middlebury:DIR, alphamatting:DIR, frames:DIR or sim[:OPTIONS] (docs/occlusion.md)")
       ->required();
   cmd->add_option("--json", o->json, "Write the scores as JSON to this file");
   cmd->add_option("--plots", o->plots,
@@ -88,6 +101,11 @@ void add_eval_occlusion_command(CLI::App& eval) {
   cmd->add_option("--cvf-subsample", o->wide_subsample,
                   "The shipped CVF's wide filter subsampling (1 = exact, its default; 2 = fast "
                   "guided filter)");
+  cmd->add_flag("--stabilised", o->stabilised,
+                "Also score every method with temporal stabilisation (columns METHOD+stab)");
+  cmd->add_option("--stabiliser", o->stabiliser,
+                  "The stabiliser's parameters WEIGHT:COLOUR_RANGE:DEPTH_MM:DEPTH_REL (default "
+                  "0.6:0.1:15:0.02; docs/occlusion.md)");
   cmd->callback([o] { run(*o); });
 }
 

@@ -6,21 +6,33 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "kernels/occlusion/temporal/matte_stabiliser.hpp"
 #include "lab/eval/alphamatting_dataset.hpp"
 #include "lab/eval/eval_plots.hpp"
 #include "lab/eval/frames_dataset.hpp"
 #include "lab/eval/matte_metrics.hpp"
 #include "lab/eval/middlebury_dataset.hpp"
+#include "lab/eval/sim_dataset.hpp"
+#include "lab/eval/sim_metrics.hpp"
 
 namespace probeless::eval {
 namespace fs = std::filesystem;
 
 std::vector<EvalCase> load_cases(const std::string& spec, const EvalOptions& options,
                                  std::string* protocol) {
+  if (spec == "sim" || spec.rfind("sim:", 0) == 0) {
+    if (options.crop_width > 0 || options.crop_height > 0)
+      throw std::invalid_argument(
+          "dataset 'sim': --crop is not supported (the poses and "
+          "intrinsics are the full frame's)");
+    if (protocol) *protocol = "sim";
+    return sim_cases(parse_sim_protocol(spec.size() > 4 ? spec.substr(4) : std::string()));
+  }
   const auto colon = spec.find(':');
   if (colon == std::string::npos || colon + 1 == spec.size())
-    throw std::invalid_argument("dataset '" + spec +
-                                "': expected middlebury:DIR, alphamatting:DIR or frames:DIR");
+    throw std::invalid_argument(
+        "dataset '" + spec +
+        "': expected middlebury:DIR, alphamatting:DIR, frames:DIR or sim[:OPTIONS]");
   const std::string kind = spec.substr(0, colon);
   const fs::path dir = spec.substr(colon + 1);
   std::vector<EvalCase> cases;
@@ -45,7 +57,7 @@ std::vector<EvalCase> load_cases(const std::string& spec, const EvalOptions& opt
     cases = recorded_cases(dir);
   } else {
     throw std::invalid_argument("dataset kind '" + kind +
-                                "' unknown: expected middlebury, alphamatting or frames");
+                                "' unknown: expected middlebury, alphamatting, frames or sim");
   }
   for (auto& c : cases)
     for (auto& f : c.frames) crop_center(f, options.crop_width, options.crop_height);
@@ -53,18 +65,81 @@ std::vector<EvalCase> load_cases(const std::string& spec, const EvalOptions& opt
   return cases;
 }
 
+namespace {
+
+// Mean over the frames that have pixels in `regions` of the frame's MSE there.
+std::optional<double> mean_region_mse(const std::vector<ImageF>& alphas, const EvalCase& c,
+                                      ImageGray8 EvalFrame::*region) {
+  double sum = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < c.frames.size(); ++k) {
+    const ImageGray8& m = c.frames[k].*region;
+    if (m.empty()) continue;
+    if (auto v = matte_mse(alphas[k], c.frames[k].truth, m)) sum += *v, ++n;
+  }
+  if (!n) return std::nullopt;
+  return sum / n;
+}
+
+MethodScore score(const EvalCase& c, const std::vector<ImageF>& alphas,
+                  const std::vector<ImageF>& truths, const std::vector<ImageGray8>& masks,
+                  const std::vector<ImageGray8>& bands, const std::vector<double>& fg_errors) {
+  MethodScore s;
+  double mse_sum = 0, band_sum = 0, sad_sum = 0;
+  int mse_n = 0, band_n = 0;
+  for (std::size_t k = 0; k < c.frames.size(); ++k) {
+    if (auto v = matte_mse(alphas[k], truths[k], masks[k])) {
+      mse_sum += *v;
+      ++mse_n;
+    }
+    if (auto v = matte_mse(alphas[k], truths[k], bands[k])) {
+      band_sum += *v;
+      ++band_n;
+    }
+    sad_sum += matte_sad(alphas[k], truths[k], masks[k]);
+  }
+  s.mse = mse_n ? mse_sum / mse_n : 0.0;
+  if (band_n) s.boundary_mse = band_sum / band_n;
+  s.temporal_noise = windowed_temporal_noise(alphas, truths, masks, c.temporal_window);
+  if (c.report_sad) s.sad = sad_sum / static_cast<double>(c.frames.size());
+  s.contact_mse = mean_region_mse(alphas, c, &EvalFrame::contact_band);
+  s.near_occluder_mse = mean_region_mse(alphas, c, &EvalFrame::near_band);
+  double fg_sum = 0;
+  int fg_n = 0;
+  for (double e : fg_errors)
+    if (e >= 0) fg_sum += e, ++fg_n;
+  if (fg_n) s.fg_composite_error = fg_sum / fg_n;
+  return s;
+}
+
+}  // namespace
+
 EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
                     const EvalOptions& options) {
   EvalReport report;
-  report.methods = options.methods;
+  // The report's columns: every method, and with options.stabilised its stabilised variant.
+  for (const auto& name : options.methods) {
+    report.methods.push_back(name);
+    if (options.stabilised) report.methods.push_back(stabilised_name(name));
+  }
   std::vector<std::unique_ptr<occlusion::OcclusionMethod>> methods;
   for (const auto& name : options.methods)
     methods.push_back(make_method(ctx, name, options.settings));
   auto& queue = ctx.queue();
+  SimComposite composite(ctx);
 
   for (const auto& c : cases) {
     spdlog::info("eval: {} ({} frame{})", c.name, c.frames.size(), c.frames.size() == 1 ? "" : "s");
-    std::vector<std::vector<ImageF>> alphas(methods.size());
+    const std::size_t columns = report.methods.size();
+    std::vector<std::vector<ImageF>> alphas(columns);
+    std::vector<std::vector<double>> fg_errors(columns);
+    // One stabiliser per method and case: its history is that method's previous matte.
+    std::vector<std::unique_ptr<occlusion::MatteStabiliser>> stabilisers;
+    if (options.stabilised)
+      for (std::size_t m = 0; m < methods.size(); ++m)
+        stabilisers.push_back(
+            std::make_unique<occlusion::MatteStabiliser>(ctx, options.stabiliser));
+    const PinholeIntrinsics k = c.intrinsics.value_or(PinholeIntrinsics{});
     DeviceImageRGB8 colour;
     DeviceDepthImage depth;
     DeviceImageF virt, alpha;
@@ -72,9 +147,20 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
       colour.upload(queue, f.colour);
       depth.upload(queue, f.real_depth_mm);
       virt.upload(queue, f.virtual_depth_mm);
+      const occlusion::OcclusionInputs in{&colour, &depth, &virt};
+      std::size_t column = 0;
       for (std::size_t m = 0; m < methods.size(); ++m) {
-        methods[m]->process({&colour, &depth, &virt}, alpha);
-        alphas[m].push_back(alpha.download(queue));
+        methods[m]->process(in, alpha);
+        alphas[column].push_back(alpha.download(queue));
+        fg_errors[column].push_back(composite.error(f, colour, alpha));
+        ++column;
+        if (options.stabilised) {
+          stabilisers[m]->process(in, c.intrinsics ? k : PinholeIntrinsics{}, f.T_world_camera,
+                                  alpha);
+          alphas[column].push_back(alpha.download(queue));
+          fg_errors[column].push_back(composite.error(f, colour, alpha));
+          ++column;
+        }
       }
     }
     SceneScores scene{c.name, {}};
@@ -85,46 +171,39 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
       masks.push_back(f.mask);
       bands.push_back(silhouette_band(f.truth, f.mask, options.boundary_px));
     }
-    for (std::size_t m = 0; m < methods.size(); ++m) {
-      MethodScore s;
-      double mse_sum = 0, band_sum = 0, sad_sum = 0;
-      int mse_n = 0, band_n = 0;
-      for (std::size_t k = 0; k < c.frames.size(); ++k) {
-        if (auto v = matte_mse(alphas[m][k], truths[k], masks[k])) {
-          mse_sum += *v;
-          ++mse_n;
-        }
-        if (auto v = matte_mse(alphas[m][k], truths[k], bands[k])) {
-          band_sum += *v;
-          ++band_n;
-        }
-        sad_sum += matte_sad(alphas[m][k], truths[k], masks[k]);
-      }
-      s.mse = mse_n ? mse_sum / mse_n : 0.0;
-      if (band_n) s.boundary_mse = band_sum / band_n;
-      s.temporal_noise = temporal_noise(alphas[m], truths, masks);
-      if (c.report_sad) s.sad = sad_sum / static_cast<double>(c.frames.size());
-      scene.methods[options.methods[m]] = s;
-    }
+    for (std::size_t m = 0; m < columns; ++m)
+      scene.methods[report.methods[m]] = score(c, alphas[m], truths, masks, bands, fg_errors[m]);
     if (!options.plots_dir.empty())
-      write_example_mattes(options.plots_dir, c, options.methods, alphas);
+      write_example_mattes(options.plots_dir, c, report.methods, alphas);
     report.scenes.push_back(std::move(scene));
   }
 
-  for (const auto& name : options.methods) {
+  for (const auto& name : report.methods) {
     MethodScore mean;
-    double bsum = 0, tsum = 0, ssum = 0;
-    int bn = 0, tn = 0, sn = 0;
+    struct Acc {
+      double sum = 0;
+      int n = 0;
+      void add(const std::optional<double>& v) {
+        if (v) sum += *v, ++n;
+      }
+      std::optional<double> get() const { return n ? std::optional(sum / n) : std::nullopt; }
+    } b, t, sd, ct, nr, fg;
     for (const auto& sc : report.scenes) {
       const auto& s = sc.methods.at(name);
       mean.mse += s.mse / static_cast<double>(report.scenes.size());
-      if (s.boundary_mse) bsum += *s.boundary_mse, ++bn;
-      if (s.temporal_noise) tsum += *s.temporal_noise, ++tn;
-      if (s.sad) ssum += *s.sad, ++sn;
+      b.add(s.boundary_mse);
+      t.add(s.temporal_noise);
+      sd.add(s.sad);
+      ct.add(s.contact_mse);
+      nr.add(s.near_occluder_mse);
+      fg.add(s.fg_composite_error);
     }
-    if (bn) mean.boundary_mse = bsum / bn;
-    if (tn) mean.temporal_noise = tsum / tn;
-    if (sn) mean.sad = ssum / sn;
+    mean.boundary_mse = b.get();
+    mean.temporal_noise = t.get();
+    mean.sad = sd.get();
+    mean.contact_mse = ct.get();
+    mean.near_occluder_mse = nr.get();
+    mean.fg_composite_error = fg.get();
     report.mean[name] = mean;
   }
   if (!options.plots_dir.empty()) write_bar_plots(options.plots_dir, report);
@@ -165,6 +244,11 @@ std::string format_report(const EvalReport& r) {
   out +=
       table(r, "temporal noise x1e3", 1e3, [](const MethodScore& s) { return s.temporal_noise; });
   out += table(r, "SAD /1000", 1.0, [](const MethodScore& s) { return s.sad; });
+  out += table(r, "contact MSE x1e3", 1e3, [](const MethodScore& s) { return s.contact_mse; });
+  out += table(r, "near-occluder MSE x1e3", 1e3,
+               [](const MethodScore& s) { return s.near_occluder_mse; });
+  out += table(r, "fg composite error x1e3", 1e3,
+               [](const MethodScore& s) { return s.fg_composite_error; });
   return out;
 }
 
@@ -175,6 +259,9 @@ nlohmann::json report_json(const EvalReport& r) {
     if (s.boundary_mse) j["boundary_mse"] = *s.boundary_mse;
     if (s.temporal_noise) j["temporal_noise"] = *s.temporal_noise;
     if (s.sad) j["sad"] = *s.sad;
+    if (s.contact_mse) j["contact_mse"] = *s.contact_mse;
+    if (s.near_occluder_mse) j["near_occluder_mse"] = *s.near_occluder_mse;
+    if (s.fg_composite_error) j["fg_composite_error"] = *s.fg_composite_error;
     return j;
   };
   nlohmann::json j;

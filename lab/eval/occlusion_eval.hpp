@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "kernels/occlusion/temporal/matte_stabiliser_params.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "lab/eval/eval_case.hpp"
 #include "lab/eval/method_set.hpp"
@@ -20,6 +21,13 @@ struct MethodScore {
   std::optional<double> boundary_mse;    // absent when the case has no silhouette
   std::optional<double> temporal_noise;  // absent with one frame
   std::optional<double> sad;             // matting cases
+  // The sim protocol's (absent elsewhere): MSE in the band around the virtual objects'
+  // contact lines, in the band around an occluder without depth, and the composite's mean
+  // squared error (RGB / 255) where the matte is fractional against the composite with the
+  // true matte and the true foreground colour.
+  std::optional<double> contact_mse;
+  std::optional<double> near_occluder_mse;
+  std::optional<double> fg_composite_error;
 };
 
 struct SceneScores {
@@ -43,10 +51,19 @@ struct EvalOptions {
   int boundary_px = 10;
   int max_scenes = 0;               // 0 = all
   std::filesystem::path plots_dir;  // empty = no plots
+  // Also score every method with temporal stabilisation ("<method>+stab"), the frames' poses
+  // giving the camera's motion (identity without them).
+  bool stabilised = false;
+  occlusion::StabiliserParams stabiliser;
 };
 
-// "middlebury:DIR", "alphamatting:DIR" or "frames:DIR". Throws std::invalid_argument for a
-// bad spec, ImageFileError for a malformed dataset.
+// The name of a method's stabilised variant in the report.
+inline std::string stabilised_name(const std::string& method) {
+  return method + "+stab";
+}
+
+// "middlebury:DIR", "alphamatting:DIR", "frames:DIR" or "sim[:OPTIONS]" (sim_dataset.hpp). Throws
+// std::invalid_argument for a bad spec, ImageFileError for a malformed dataset.
 std::vector<EvalCase> load_cases(const std::string& dataset_spec, const EvalOptions& options,
                                  std::string* protocol = nullptr);
 

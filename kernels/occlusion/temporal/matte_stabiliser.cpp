@@ -1,0 +1,89 @@
+#include "kernels/occlusion/temporal/matte_stabiliser.hpp"
+
+#include <array>
+#include <stdexcept>
+
+#include "kernels/occlusion/temporal/matte_stabiliser_cl.hpp"
+
+namespace probeless::occlusion {
+namespace {
+
+// matte_stabiliser.cl's Motion, field for field (20 floats).
+struct MotionArg {
+  std::array<cl_float, 9> r;
+  std::array<cl_float, 3> t;
+  cl_float fx, fy, cx, cy;
+  cl_float history_weight, colour_range, depth_tol_mm, depth_tol_rel;
+};
+static_assert(sizeof(MotionArg) == 20 * sizeof(cl_float));
+
+template <typename T, int C>
+void copy_image(ComputeContext& ctx, const DeviceImage<T, C>& from, DeviceImage<T, C>& to) {
+  to.resize(ctx.context(), from.width(), from.height());
+  if (!from.empty())
+    ctx.queue().enqueueCopyBuffer(from.buffer(), to.buffer(), 0, 0, from.size_bytes());
+}
+
+}  // namespace
+
+MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
+    : ctx_(ctx),
+      params_(params),
+      kernel_(ctx.kernel("matte_stabiliser", cl_source::matte_stabiliser, "", "stabilise_matte")) {
+  if (!(params.history_weight >= 0.f && params.history_weight < 1.f))
+    throw std::invalid_argument("matte stabiliser: history_weight must lie in [0, 1)");
+  if (!(params.colour_range > 0.f))
+    throw std::invalid_argument("matte stabiliser: colour_range must be > 0");
+  if (!(params.depth_tolerance_mm >= 0.f && params.depth_tolerance_rel >= 0.f))
+    throw std::invalid_argument("matte stabiliser: depth tolerances must be >= 0");
+}
+
+void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics& k,
+                              const std::optional<Pose>& T_world_camera,
+                              DeviceImage<float, 1>& alpha) {
+  check_inputs(in, "matte stabiliser");
+  if (!alpha.same_size(*in.colour))
+    throw std::invalid_argument("matte stabiliser: the matte differs in size from the frame");
+  const int w = in.width(), h = in.height();
+  if (have_previous_ && !prev_alpha_.same_size(w, h)) have_previous_ = false;
+  if (have_previous_ && w > 0 && h > 0) {
+    Pose T_prev_curr;  // identity without both poses
+    if (T_world_camera && previous_pose_) T_prev_curr = previous_pose_->inverse() * *T_world_camera;
+    MotionArg m{};
+    const Eigen::Matrix3d r = T_prev_curr.rotation.toRotationMatrix();
+    for (int i = 0; i < 9; ++i)
+      m.r[static_cast<std::size_t>(i)] = static_cast<float>(r(i / 3, i % 3));
+    for (int i = 0; i < 3; ++i)
+      m.t[static_cast<std::size_t>(i)] = static_cast<float>(T_prev_curr.translation[i] * 1000.0);
+    m.fx = static_cast<float>(k.fx);
+    m.fy = static_cast<float>(k.fy);
+    m.cx = static_cast<float>(k.cx);
+    m.cy = static_cast<float>(k.cy);
+    m.history_weight = params_.history_weight;
+    m.colour_range = params_.colour_range;
+    m.depth_tol_mm = params_.depth_tolerance_mm;
+    m.depth_tol_rel = params_.depth_tolerance_rel;
+    int a = 0;
+    kernel_.setArg(a++, alpha.buffer());
+    kernel_.setArg(a++, in.colour->buffer());
+    kernel_.setArg(a++, in.real_depth_mm->buffer());
+    kernel_.setArg(a++, in.virtual_depth_mm->buffer());
+    kernel_.setArg(a++, prev_alpha_.buffer());
+    kernel_.setArg(a++, prev_colour_.buffer());
+    kernel_.setArg(a++, prev_depth_.buffer());
+    kernel_.setArg(a++, prev_virtual_.buffer());
+    kernel_.setArg(a++, w);
+    kernel_.setArg(a++, h);
+    kernel_.setArg(a++, sizeof(m), &m);
+    ctx_.run_2d(kernel_, w, h);
+  }
+  // This frame becomes the previous one: its inputs and its stabilised matte.
+  copy_image(ctx_, alpha, prev_alpha_);
+  copy_image(ctx_, *in.colour, prev_colour_);
+  copy_image(ctx_, *in.real_depth_mm, prev_depth_);
+  copy_image(ctx_, *in.virtual_depth_mm, prev_virtual_);
+  previous_pose_ = T_world_camera;
+  have_previous_ = true;
+}
+
+}  // namespace probeless::occlusion

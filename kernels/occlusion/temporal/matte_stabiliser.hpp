@@ -1,0 +1,40 @@
+#pragma once
+// The temporal stabilisation stage (matte_stabiliser.cl; params and the idea in
+// matte_stabiliser_params.hpp; docs/occlusion.md "Temporal stabilisation"). It keeps the
+// previous frame's colour, depths and stabilised matte on the device; process() blends the
+// current matte in place and then remembers this frame. The first frame, and the first after
+// reset(), passes through unchanged.
+#include <optional>
+
+#include "kernels/occlusion/common/occlusion_method.hpp"
+#include "kernels/occlusion/temporal/matte_stabiliser_params.hpp"
+#include "kernels/runtime/compute_context.hpp"
+
+namespace probeless::occlusion {
+
+class MatteStabiliser {
+ public:
+  MatteStabiliser(ComputeContext& ctx, StabiliserParams params = {});
+
+  // `alpha`: the current frame's matte of `in` (every image one size, else
+  // std::invalid_argument). `T_world_camera`: the colour camera's pose; without one the
+  // motion since the previous frame is taken as none (identity). A frame of another size
+  // than the previous one starts over.
+  void process(const OcclusionInputs& in, const PinholeIntrinsics& intrinsics,
+               const std::optional<Pose>& T_world_camera, DeviceImage<float, 1>& alpha);
+  // Forget the previous frame (the pose was lost, the source restarted).
+  void reset() { have_previous_ = false; }
+  const StabiliserParams& params() const { return params_; }
+
+ private:
+  ComputeContext& ctx_;
+  StabiliserParams params_;
+  ::cl::Kernel kernel_;
+  bool have_previous_ = false;
+  std::optional<Pose> previous_pose_;
+  DeviceImage<std::uint8_t, 3> prev_colour_;
+  DeviceImage<std::uint16_t, 1> prev_depth_;
+  DeviceImage<float, 1> prev_virtual_, prev_alpha_;
+};
+
+}  // namespace probeless::occlusion
