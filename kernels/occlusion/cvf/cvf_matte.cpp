@@ -88,6 +88,7 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
   const CvfParams& params = params_.cvf;
   const auto options = cvf_options(params_, local);
   hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, hist_bytes());
+  if (local && params_.near_occluders) near_.emplace(ctx, near_occluder_params(params_));
   if (layout_ == CvfLayout::Tiles) {
     categoriser_.emplace(ctx, params.categorise);
     if (local) local_costs_.emplace(ctx, params_);
@@ -147,6 +148,10 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
     process_tiles(in, alpha);
   } else {
     process_strips(in, alpha);
+  }
+  if (near_) {
+    near_->process(in, alpha);
+    stage_done("near occluders");
   }
 }
 
