@@ -114,8 +114,9 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
   static const std::string source =
       std::string(cl_source::cvf_vector) + std::string(cl_source::cvf);
   classify_ = ctx.kernel("cvf", source,
-                         fmt::format("{} -DEROSION={} -DBAND={}", options,
-                                     std::max(0, params.categorise.erosion_px), params.band_px),
+                         fmt::format("{} -DEROSION={} -DBAND={}{}", options,
+                                     std::max(0, params.categorise.erosion_px), params.band_px,
+                                     depth_tolerance_options(params.categorise)),
                          "cvf_classify");
   if (local) {
     likelihoods_ = ctx.kernel(
