@@ -113,11 +113,11 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
                    StripGuidedFilter::Output::VisibilityFromCost, options, trace);
   static const std::string source =
       std::string(cl_source::cvf_vector) + std::string(cl_source::cvf);
-  classify_ = ctx.kernel("cvf", source,
-                         fmt::format("{} -DEROSION={} -DBAND={}{}", options,
-                                     std::max(0, params.categorise.erosion_px), params.band_px,
-                                     depth_tolerance_options(params.categorise)),
-                         "cvf_classify");
+  classify_ = ctx.kernel(
+      "cvf", source,
+      fmt::format("{} -DEROSION={} -DBAND={}{}", options, std::max(0, params.categorise.erosion_px),
+                  params.band_px, depth_tolerance_options(params.categorise)),
+      "cvf_classify");
   if (local) {
     likelihoods_ = ctx.kernel(
         "cvf_local_histogram", cl_source::cvf_local_histogram,
