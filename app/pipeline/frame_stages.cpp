@@ -111,11 +111,11 @@ const DeviceImageF& OcclusionStage::process(const DeviceFrame& frame,
 const DeviceImageRGB8& CompositeStage::process(const DeviceFrame& frame,
                                                const DeviceImageF& matte) {
   out_.resize(ctx_.context(), frame.colour->width(), frame.colour->height());
+  foreground_.process(*frame.colour, *frame.virtual_depth, matte, real_);
   if (const auto* hdr = std::get_if<DeviceHdrRadiance>(&frame.virtual_colour))
-    hdr_.process(*frame.colour, *hdr->radiance, matte, hdr->camera, out_);
+    hdr_.process(real_, *hdr->radiance, matte, hdr->camera, out_);
   else
-    composite_.process(*frame.colour, *std::get<DeviceLdrColour>(frame.virtual_colour).colour,
-                       matte, out_);
+    composite_.process(real_, *std::get<DeviceLdrColour>(frame.virtual_colour).colour, matte, out_);
   return out_;
 }
 

@@ -26,6 +26,7 @@
 #include "kernels/composite/compositor.hpp"
 #include "kernels/composite/hdr_compositor.hpp"
 #include "kernels/occlusion/common/occlusion_method.hpp"
+#include "kernels/occlusion/foreground/foreground_estimate.hpp"
 #include "kernels/occlusion/temporal/matte_stabiliser.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_image.hpp"
@@ -150,14 +151,20 @@ class OcclusionStage {
   DeviceImageF alpha_;
 };
 
+// Composites with the estimated real foreground colour where the matte is fractional
+// (docs/compositing.md "Foreground colour at soft edges"), not the observed mix that still
+// holds the background the virtual object replaces.
 class CompositeStage {
  public:
-  explicit CompositeStage(ComputeContext& ctx) : ctx_(ctx), composite_(ctx), hdr_(ctx) {}
+  explicit CompositeStage(ComputeContext& ctx)
+      : ctx_(ctx), foreground_(ctx), composite_(ctx), hdr_(ctx) {}
   static constexpr const char* name = "composite";
   const DeviceImageRGB8& process(const DeviceFrame& frame, const DeviceImageF& matte);
 
  private:
   ComputeContext& ctx_;
+  occlusion::ForegroundEstimate foreground_;
+  DeviceImageRGB8 real_;  // the colour frame with F at fractional matte pixels
   Compositor composite_;
   HdrCompositor hdr_;
   DeviceImageRGB8 out_;

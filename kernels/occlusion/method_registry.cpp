@@ -29,8 +29,10 @@ std::unique_ptr<OcclusionMethod> make_method(ComputeContext& ctx, const std::str
     return std::make_unique<CvfMatte>(ctx, p);
   }
   if (name == "cvf_thesis") return std::make_unique<CvfMatte>(ctx, cvf);
-  if (name == "direct1") return std::make_unique<DirectMatte>(ctx, UnknownDepth::Occluded);
-  if (name == "direct2") return std::make_unique<DirectMatte>(ctx, UnknownDepth::Visible);
+  if (name == "direct1")
+    return std::make_unique<DirectMatte>(ctx, UnknownDepth::Occluded, params.categorise);
+  if (name == "direct2")
+    return std::make_unique<DirectMatte>(ctx, UnknownDepth::Visible, params.categorise);
   if (name == "guided") {
     GuidedMatteParams p;
     p.categorise = cvf.categorise;

@@ -25,8 +25,7 @@ CvCategories opencv_categories(const DepthImage& real_depth_mm, const ImageF& vi
   const int n = w * h;
   cv::Mat cat(h, w, CV_8U), infront(h, w, CV_8U), behind(h, w, CV_8U), process(h, w, CV_8U);
   for (int i = 0; i < n; ++i) {
-    const auto c = raw_category(real_depth_mm.data()[i], virtual_depth_mm.data()[i],
-                                p.categorise.depth_tolerance_mm);
+    const auto c = raw_category(real_depth_mm.data()[i], virtual_depth_mm.data()[i], p.categorise);
     cat.data[i] = static_cast<std::uint8_t>(c);
     infront.data[i] = c == Category::Infront ? 255 : 0;
     behind.data[i] = c == Category::Behind ? 255 : 0;

@@ -9,7 +9,8 @@ Categoriser::Categoriser(ComputeContext& ctx, const CategoriseParams& params)
     : ctx_(ctx), params_(params) {
   if (params.erosion_px < 0) throw std::invalid_argument("categorise: negative erosion");
   auto k = [&](const char* name) {
-    return ctx.kernel("cvf_categorise", cl_source::cvf_categorise, "", name);
+    return ctx.kernel("cvf_categorise", cl_source::cvf_categorise, depth_tolerance_options(params),
+                      name);
   };
   raw_bits_ = k("cvf_raw_bits");
   dilate_rows_ = k("cvf_dilate_rows");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <vector>
 
@@ -37,6 +38,17 @@ Category raw_category(std::uint16_t real_mm, float virtual_mm, float tolerance_m
   return real < virtual_mm ? Category::Infront : Category::Behind;
 }
 
+Category raw_category(std::uint16_t real_mm, float virtual_mm, const CategoriseParams& params) {
+  return raw_category(real_mm, virtual_mm, depth_tolerance_mm(params, virtual_mm));
+}
+
+std::string depth_tolerance_options(const CategoriseParams& p) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, " -DTOL_QUAD=%af -DTOL_Z0=%af", double(p.tolerance_per_mm),
+                double(p.tolerance_z0_mm));
+  return buf;
+}
+
 CategoryImage categorise_reference(const DepthImage& real_depth_mm, const ImageF& virtual_depth_mm,
                                    const CategoriseParams& params) {
   const int w = real_depth_mm.width(), h = real_depth_mm.height();
@@ -46,8 +58,7 @@ CategoryImage categorise_reference(const DepthImage& real_depth_mm, const ImageF
   Image<std::uint8_t, 1> bits(w, h);  // bit (category - 1) for on-object categories
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
-      const Category c = raw_category(real_depth_mm.at(x, y), virtual_depth_mm.at(x, y),
-                                      params.depth_tolerance_mm);
+      const Category c = raw_category(real_depth_mm.at(x, y), virtual_depth_mm.at(x, y), params);
       raw.at(x, y) = static_cast<std::uint8_t>(c);
       bits.at(x, y) = c == Category::Ignore ? 0 : static_cast<std::uint8_t>(1U << (int(c) - 1));
     }

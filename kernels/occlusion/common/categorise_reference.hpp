@@ -10,6 +10,8 @@ namespace probeless::occlusion {
 // Raw depth test without erosion: off the object (virtual <= 0) Ignore; real depth unknown
 // (0) or |real - virtual| <= tolerance Process; real < virtual Infront; else Behind.
 Category raw_category(std::uint16_t real_mm, float virtual_mm, float tolerance_mm);
+// The same with the tolerance at the pixel's virtual depth (depth_tolerance_mm()).
+Category raw_category(std::uint16_t real_mm, float virtual_mm, const CategoriseParams& params);
 
 // The depth test, then erosion of the infront/behind border: an infront pixel with a behind
 // pixel in its (2e+1)^2 window, or a behind pixel with an infront one, becomes Process (the

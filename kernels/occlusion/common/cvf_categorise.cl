@@ -7,6 +7,15 @@
 #define CAT_INFRONT 2
 #define CAT_PROCESS 3
 
+// depth_tolerance_mm() of cvf_params.hpp: TOL_QUAD and TOL_Z0 are -D options; separate
+// statements so that no fused multiply-add changes the last bit.
+inline float tolerance_at(float tolerance_mm, float v) {
+  const float d = v - TOL_Z0;
+  float q = d * d;
+  q = TOL_QUAD * q;
+  return tolerance_mm + q;
+}
+
 // Raw depth test as bits: 0 off the object, else 1 << (category - 1).
 __kernel void cvf_raw_bits(__global const ushort* real_mm, __global const float* virtual_mm,
                            __global uchar* bits, int w, int h, float tolerance_mm) {
@@ -18,7 +27,7 @@ __kernel void cvf_raw_bits(__global const ushort* real_mm, __global const float*
   int c;
   if (!(v > 0.0f))
     c = CAT_IGNORE;
-  else if (r == 0 || fabs((float)r - v) <= tolerance_mm)
+  else if (r == 0 || fabs((float)r - v) <= tolerance_at(tolerance_mm, v))
     c = CAT_PROCESS;
   else
     c = (float)r < v ? CAT_INFRONT : CAT_BEHIND;

@@ -66,7 +66,12 @@ inline vf raw_categories(__global const ushort* real_mm, __global const float* v
     v = vload16(0, tv);
   }
   vf c = select((vf)(CAT_BEHIND), (vf)(CAT_INFRONT), r < v);
-  c = select(c, (vf)(CAT_PROCESS), r == 0.0f || fabs(r - v) <= tolerance_mm);
+  // depth_tolerance_mm() of cvf_params.hpp (TOL_QUAD, TOL_Z0: -D options), per pixel.
+  const vf d = v - (vf)(TOL_Z0);
+  vf q = d * d;
+  q = (vf)(TOL_QUAD) * q;
+  const vf tolerance = (vf)(tolerance_mm) + q;
+  c = select(c, (vf)(CAT_PROCESS), r == 0.0f || fabs(r - v) <= tolerance);
   return select((vf)(CAT_IGNORE), c, v > 0.0f);
 }
 

@@ -7,6 +7,7 @@
 #include "kernels/occlusion/common/categorise_reference.hpp"
 #include "kernels/occlusion/common/guided_filter_reference.hpp"
 #include "kernels/occlusion/cvf/cvf_reference.hpp"
+#include "kernels/occlusion/cvf/near_occluder_reference.hpp"
 
 namespace probeless::occlusion {
 
@@ -255,6 +256,9 @@ CvfLocalTrace cvf_local_reference(const ImageRGB8& colour, const DepthImage& rea
     }
   t.feather = guided_filter_reference(guide, t.mask, p.feather);
   t.alpha = visibility_from_cost(t.feather, virtual_depth_mm);
+  if (params.near_occluders)
+    apply_near_occluder_reference(colour, real_depth_mm, virtual_depth_mm,
+                                  near_occluder_params(params), t.alpha);
   return t;
 }
 

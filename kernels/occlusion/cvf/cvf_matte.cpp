@@ -88,6 +88,7 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
   const CvfParams& params = params_.cvf;
   const auto options = cvf_options(params_, local);
   hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, hist_bytes());
+  if (local && params_.near_occluders) near_.emplace(ctx, near_occluder_params(params_));
   if (layout_ == CvfLayout::Tiles) {
     categoriser_.emplace(ctx, params.categorise);
     if (local) local_costs_.emplace(ctx, params_);
@@ -112,10 +113,11 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
                    StripGuidedFilter::Output::VisibilityFromCost, options, trace);
   static const std::string source =
       std::string(cl_source::cvf_vector) + std::string(cl_source::cvf);
-  classify_ = ctx.kernel("cvf", source,
-                         fmt::format("{} -DEROSION={} -DBAND={}", options,
-                                     std::max(0, params.categorise.erosion_px), params.band_px),
-                         "cvf_classify");
+  classify_ = ctx.kernel(
+      "cvf", source,
+      fmt::format("{} -DEROSION={} -DBAND={}{}", options, std::max(0, params.categorise.erosion_px),
+                  params.band_px, depth_tolerance_options(params.categorise)),
+      "cvf_classify");
   if (local) {
     likelihoods_ = ctx.kernel(
         "cvf_local_histogram", cl_source::cvf_local_histogram,
@@ -147,6 +149,10 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
     process_tiles(in, alpha);
   } else {
     process_strips(in, alpha);
+  }
+  if (near_) {
+    near_->process(in, alpha);
+    stage_done("near occluders");
   }
 }
 

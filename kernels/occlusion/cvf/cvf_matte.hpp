@@ -27,6 +27,7 @@
 #include "kernels/occlusion/cvf/cvf_local_histogram.hpp"
 #include "kernels/occlusion/cvf/cvf_local_reference.hpp"
 #include "kernels/occlusion/cvf/histogram_reference.hpp"
+#include "kernels/occlusion/cvf/near_occluder.hpp"
 
 namespace probeless::occlusion {
 
@@ -119,6 +120,7 @@ class CvfMatte final : public OcclusionMethod {
   // Tiles.
   std::optional<Categoriser> categoriser_;
   std::optional<CvfLocalHistogram> local_costs_;
+  std::optional<NearOccluder> near_;  // cvf with near_occluders (issue #19 item 4)
   ::cl::Kernel histogram_, cost_pack_, mask_pack_;
   std::optional<GuidedFilter> tile_wide_, tile_feather_;
   DeviceImageGray8 band_;

@@ -1,0 +1,144 @@
+// Issue #19 item 4: a hand closer than the depth sensor's minimum range has no depth; it must
+// still occlude where its colour says so. The same scene with the hand at 0.45 m (the Kinect
+// model's minimum range is 0.5 m: no depth) and at 0.6 m (measured), through the Kinect noise
+// model (core/depth_noise.hpp); MSE of every CVF and Direct against the true matte.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "core/depth_noise.hpp"
+#include "kernels/occlusion/cvf/cvf_local_reference.hpp"
+#include "kernels/occlusion/method_registry.hpp"
+#include "support/cl_context.hpp"
+
+namespace probeless::occlusion {
+namespace {
+
+using testing::cl_context;
+
+struct NearScene {
+  ImageRGB8 colour;
+  DepthImage depth;  // through the noise model
+  ImageF virt;
+  ImageF truth;  // visibility of the object, -1 off it
+};
+
+// A textured wall at 2 m, a red mug at 0.9 m in front of the object's lower left, a virtual box
+// at 1.2 m, and a hand (palm, fingers, the wrist running out of the frame) at hand_m.
+NearScene near_scene(double hand_m, std::uint64_t seed, bool mug = true) {
+  const int w = 320, h = 240;
+  const double focal = 525.0 * w / 640;
+  std::mt19937 rng(7);  // the same colours in both variants
+  std::normal_distribution<float> grain(0.0F, 6.0F);
+  NearScene s{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h), ImageF(w, h)};
+  DepthImage clean(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool palm = std::hypot((x - 205.0) / 38, (y - 120.0) / 30) < 1;
+      const bool finger = x > 150 && x < 205 &&
+                          (std::abs(y - 100) < 5 || std::abs(y - 118) < 5 || std::abs(y - 136) < 5);
+      const bool wrist = x >= 205 && std::abs(y - 125) < 20;
+      const bool hand = palm || finger || wrist;
+      const bool is_mug = mug && std::hypot((x - 100.0) / 25, (y - 185.0) / 30) < 1;
+      float base[3];
+      double z;
+      if (hand) {
+        const float shade = 0.85F + 0.15F * std::sin(0.08F * float(y));
+        base[0] = 205 * shade, base[1] = 150 * shade, base[2] = 125 * shade, z = hand_m;
+      } else if (is_mug) {
+        base[0] = 160, base[1] = 30, base[2] = 40, z = 0.9;
+      } else {
+        const bool patch = ((x / 40) + (y / 40)) % 2 == 0;  // two wall tones
+        base[0] = patch ? 90.F : 170.F, base[1] = patch ? 110.F : 160.F,
+        base[2] = patch ? 140.F : 120.F, z = 2.0;
+      }
+      for (int c = 0; c < 3; ++c)
+        s.colour.at(x, y, c) = std::uint8_t(std::clamp(base[c] + grain(rng), 0.0F, 255.0F));
+      clean.at(x, y) = std::uint16_t(std::lround(z * 1000));
+      const bool on = x >= 60 && x < 260 && y >= 40 && y < 220;
+      s.virt.at(x, y) = on ? 1200.0F : 0.0F;
+      s.truth.at(x, y) = on ? (z * 1000 >= 1200 ? 1.0F : 0.0F) : -1.0F;
+    }
+  s.depth = apply_kinect_noise(clean, focal, seed);
+  return s;
+}
+
+double mse(const ImageF& alpha, const ImageF& truth) {
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < truth.height(); ++y)
+    for (int x = 0; x < truth.width(); ++x) {
+      if (truth.at(x, y) < 0) continue;
+      const double d = alpha.at(x, y) - truth.at(x, y);
+      sum += d * d;
+      ++n;
+    }
+  return sum / n;
+}
+
+struct Mses {
+  double device, reference;
+};
+
+Mses run(const NearScene& s, const std::string& method, bool near_occluders = false) {
+  auto& ctx = cl_context();
+  MethodParams params;
+  params.cvf.near_occluders = near_occluders;
+  auto m = make_method(ctx, method, params);
+  const DeviceImageRGB8 colour(ctx, s.colour);
+  const DeviceImage<std::uint16_t, 1> real(ctx, s.depth);
+  const DeviceImageF virt(ctx, s.virt);
+  DeviceImageF alpha;
+  m->process({&colour, &real, &virt}, alpha);
+  Mses out{mse(alpha.download(ctx.queue()), s.truth), -1};
+  if (method == "cvf") {
+    CvfLocalParams p;
+    p.near_occluders = near_occluders;
+    out.reference = mse(cvf_local_reference(s.colour, s.depth, s.virt, p).alpha, s.truth);
+  }
+  return out;
+}
+
+// Prints every method's MSE with the hand at 0.45 m (no depth) and 0.6 m (depth), and cvf with
+// the near-occluder cap (near_occluder_reference.hpp). Asserts what the cap achieves: the hand
+// without depth at < 0.3x the MSE without the cap, the hand with depth not worse, device and
+// reference alike. The issue's bar (without depth within 2x of with depth) is NOT met (the
+// ratio is printed; docs/occlusion.md).
+TEST(NearOccluder, ColourCapHidesAHandWithoutDepth) {
+  for (const bool mug : {true, false}) {
+    const auto near = near_scene(0.45, 11, mug), far = near_scene(0.60, 11, mug);
+    int holes = 0, hand = 0;
+    for (int y = 0; y < 240; ++y)
+      for (int x = 0; x < 320; ++x)
+        if (near.truth.at(x, y) == 0.0F && near.colour.at(x, y, 0) > 150 &&
+            near.colour.at(x, y, 2) > 90) {
+          ++hand;
+          holes += near.depth.at(x, y) == 0;
+        }
+    ASSERT_GT(holes, 0.95 * hand) << "the noise model must drop the near hand's depth";
+    for (const char* method : {"cvf", "cvf_thesis", "direct1", "direct2", "bilateral"}) {
+      const auto a = run(near, method), b = run(far, method);
+      std::printf("%s mug=%d: MSE x1e3 without depth %.2f, with depth %.2f (ratio %.2f)\n", method,
+                  int(mug), 1e3 * a.device, 1e3 * b.device, a.device / b.device);
+    }
+    const auto a0 = run(near, "cvf"), b0 = run(far, "cvf");
+    const auto a = run(near, "cvf", true), b = run(far, "cvf", true);
+    std::printf(
+        "cvf + near cap mug=%d: without depth %.2f (reference %.2f), with depth %.2f "
+        "(reference %.2f), ratio %.2f\n",
+        int(mug), 1e3 * a.device, 1e3 * a.reference, 1e3 * b.device, 1e3 * b.reference,
+        a.device / b.device);
+    EXPECT_LT(a.device, 0.3 * a0.device) << "mug " << mug;
+    EXPECT_LT(a.reference, 0.3 * a0.reference) << "mug " << mug;
+    EXPECT_LE(b.device, b0.device * 1.02) << "mug " << mug;
+    if (mug) {  // with a valid colour pair, device and reference agree (see below otherwise)
+      EXPECT_NEAR(a.device, a.reference, 1e-4);
+      EXPECT_NEAR(b.device, b.reference, 1e-4);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace probeless::occlusion
