@@ -8,7 +8,9 @@
 #include <event2/listener.h>
 #include <event2/thread.h>
 #include <fcntl.h>
+#include <linux/sockios.h>
 #include <netdb.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -576,9 +578,14 @@ void HttpServer::Impl::drop_slow_streams() {
     evhttp_connection* conn = evhttp_request_get_connection(client->request);
     if (conn == nullptr) continue;
     bufferevent* bev = evhttp_connection_get_bufferevent(conn);
-    // What is still in the output buffer includes the chunk framing, which bytes_queued does
-    // not: `taken` errs low by a few bytes per part, never high.
-    const std::size_t buffered = evbuffer_get_length(bufferevent_get_output(bev));
+    // Not yet taken: our output buffer and the socket's send queue (SIOCOUTQ: unsent and
+    // unacknowledged), which on loopback grows to megabytes and would hide a slow reader.
+    // Both include the chunk framing, which bytes_queued does not: `taken` errs low by a few
+    // bytes per part, never high.
+    int in_kernel = 0;
+    if (ioctl(bufferevent_getfd(bev), SIOCOUTQ, &in_kernel) != 0) in_kernel = 0;
+    const std::size_t buffered = evbuffer_get_length(bufferevent_get_output(bev)) +
+                                 static_cast<std::size_t>(std::max(in_kernel, 0));
     const std::uint64_t taken =
         client->bytes_queued > buffered ? client->bytes_queued - buffered : 0;
     auto& parts = client->queued_parts;
