@@ -8,7 +8,9 @@
 #include <event2/listener.h>
 #include <event2/thread.h>
 #include <fcntl.h>
+#include <linux/sockios.h>
 #include <netdb.h>
+#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -16,6 +18,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <deque>
 #include <list>
 #include <map>
 #include <mutex>
@@ -24,6 +27,7 @@
 #include <system_error>
 #include <thread>
 
+#include "app/outputs/http_connections.hpp"
 #include "app/outputs/viewer_page.hpp"
 #include "base/latest_frame.hpp"
 
@@ -126,6 +130,9 @@ struct StreamClient {
   std::uint64_t skipped = 0;  // frames between two sent ones
   std::uint64_t bytes_queued = 0;
   std::size_t buffered = 0;  // output not yet taken by the kernel, as of the last look
+  // Frames queued and not yet taken whole: where each ends in bytes_queued, and when it was
+  // queued (the slow-reader rule, stalled_client_timeout).
+  std::deque<std::pair<std::uint64_t, TimestampNs>> queued_parts;
 };
 
 struct HttpServer::Impl {
@@ -139,6 +146,7 @@ struct HttpServer::Impl {
   event* stop_event = nullptr;
   event* resume_accept_event = nullptr;  // re-enables the listener after an accept failure
   evconnlistener* listener = nullptr;
+  std::unique_ptr<HttpConnections> connections;
   int port = 0;
   std::thread thread;
 
@@ -152,8 +160,10 @@ struct HttpServer::Impl {
   std::uint64_t requests = 0;
   std::uint64_t refused = 0;
   std::uint64_t accept_failures = 0;
-  std::uint64_t bytes_queued = 0;   // every response body and stream part
-  std::uint64_t bytes_dropped = 0;  // queued to clients that closed before taking it
+  std::uint64_t slow_streams_dropped = 0;
+  HttpConnectionCounts connection_counts;  // a copy for stats(), updated each sweep
+  std::uint64_t bytes_queued = 0;          // every response body and stream part
+  std::uint64_t bytes_dropped = 0;         // queued to clients that closed before taking it
 
   void setup();
   void teardown();
@@ -169,6 +179,7 @@ struct HttpServer::Impl {
   void send_text(evhttp_request* req, int code, const char* reason, const std::string& text);
   void offer(StreamClient& client);
   void drained(StreamClient& client);
+  void drop_slow_streams();
   void remove(StreamClient* client);
   HttpServerStats stats() const;
 };
@@ -260,6 +271,11 @@ void HttpServer::Impl::setup() {
   evhttp_set_max_headers_size(http, ev_ssize_t{16} * 1024);
   evhttp_set_max_body_size(http, ev_ssize_t{16} * 1024);
   evhttp_set_gencb(http, on_request_cb, this);
+  connections = std::make_unique<HttpConnections>(
+      base, http,
+      HttpConnectionLimits{.max_connections = config.max_connections,
+                           .header_timeout = config.header_timeout},
+      [this] { drop_slow_streams(); });
 
   frame_event = event_new(base, -1, 0, on_frame_cb, this);
   stop_event = event_new(base, -1, 0, on_stop_cb, this);
@@ -291,6 +307,7 @@ void HttpServer::Impl::teardown() {
     g_listeners.erase(listener);
   }
   if (http) evhttp_free(http);
+  connections.reset();  // after evhttp's connections, before the base
   if (frame_event) event_free(frame_event);
   if (stop_event) event_free(stop_event);
   if (resume_accept_event) event_free(resume_accept_event);
@@ -332,6 +349,8 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
   const char* path = uri ? evhttp_uri_get_path(uri) : nullptr;
   const char* query = uri ? evhttp_uri_get_query(uri) : nullptr;
   const std::string_view p = path && *path ? path : "/";
+  if (evhttp_connection* conn = evhttp_request_get_connection(req))
+    connections->request_arrived(evhttp_connection_get_bufferevent(conn));
   if (!admit(req)) return;
   const Route route = route_for(p, query);
   if (route == Route::NotFound) {
@@ -492,6 +511,7 @@ void HttpServer::Impl::serve_stream(evhttp_request* req) {
   bufferevent_set_timeouts(bev, nullptr,
                            config.stalled_client_timeout.count() > 0 ? &stall : nullptr);
   bufferevent_setwatermark(bev, EV_READ, 0, kStreamInputLimit);
+  connections->became_stream(bev);
   evhttp_connection_set_closecb(conn, on_stream_closed_cb, client.get());
   evhttp_request_set_on_complete_cb(req, on_stream_complete_cb, client.get());
 
@@ -530,6 +550,7 @@ void HttpServer::Impl::offer(StreamClient& client) {
     client.last_sent = current->sequence;
     ++client.frames_sent;
     client.bytes_queued += part_bytes;
+    client.queued_parts.emplace_back(client.bytes_queued, monotonic_now_ns());
     client.buffered = buffered + part_bytes;
     bytes_queued += part_bytes;
   }
@@ -543,6 +564,40 @@ void HttpServer::Impl::drained(StreamClient& client) {
     client.buffered = 0;
   }
   offer(client);
+}
+
+// Every sweep: a stream client with a frame queued longer than stalled_client_timeout and
+// still not taken whole is dropped, however many bytes it takes now and then.
+void HttpServer::Impl::drop_slow_streams() {
+  const TimestampNs now = monotonic_now_ns();
+  const TimestampNs limit_ns = ms_to_ns(
+      std::chrono::duration_cast<std::chrono::milliseconds>(config.stalled_client_timeout).count());
+  std::vector<evhttp_connection*> slow;
+  for (auto& client : clients) {
+    if (client->request == nullptr) continue;
+    evhttp_connection* conn = evhttp_request_get_connection(client->request);
+    if (conn == nullptr) continue;
+    bufferevent* bev = evhttp_connection_get_bufferevent(conn);
+    // Not yet taken: our output buffer and the socket's send queue (SIOCOUTQ: unsent and
+    // unacknowledged), which on loopback grows to megabytes and would hide a slow reader.
+    // Both include the chunk framing, which bytes_queued does not: `taken` errs low by a few
+    // bytes per part, never high.
+    int in_kernel = 0;
+    if (ioctl(bufferevent_getfd(bev), SIOCOUTQ, &in_kernel) != 0) in_kernel = 0;
+    const std::size_t buffered = evbuffer_get_length(bufferevent_get_output(bev)) +
+                                 static_cast<std::size_t>(std::max(in_kernel, 0));
+    const std::uint64_t taken =
+        client->bytes_queued > buffered ? client->bytes_queued - buffered : 0;
+    auto& parts = client->queued_parts;
+    while (!parts.empty() && (parts.front().first <= taken || buffered == 0)) parts.pop_front();
+    if (limit_ns > 0 && !parts.empty() && now - parts.front().second > limit_ns)
+      slow.push_back(conn);
+  }
+  // Freeing a connection runs its close callback, which removes the client from the list.
+  for (evhttp_connection* conn : slow) evhttp_connection_free(conn);
+  std::lock_guard lock(stats_mutex);
+  slow_streams_dropped += slow.size();
+  connection_counts = connections->counts();
 }
 
 void HttpServer::Impl::on_frame() {
@@ -573,6 +628,10 @@ HttpServerStats HttpServer::Impl::stats() const {
   s.requests = requests;
   s.refused = refused;
   s.accept_failures = accept_failures;
+  s.connections = connection_counts.open;
+  s.header_timeouts = connection_counts.header_timeouts;
+  s.evicted = connection_counts.evicted;
+  s.slow_streams_dropped = slow_streams_dropped;
   std::uint64_t unsent = bytes_dropped;
   for (const auto& c : clients) {
     StreamClientStats cs;
@@ -602,6 +661,10 @@ nlohmann::json to_json(const HttpServerStats& stats) {
   return {{"requests", stats.requests},
           {"refused", stats.refused},
           {"accept_failures", stats.accept_failures},
+          {"connections", stats.connections},
+          {"header_timeouts", stats.header_timeouts},
+          {"evicted", stats.evicted},
+          {"slow_streams_dropped", stats.slow_streams_dropped},
           {"frames_published", stats.frames_published},
           {"bytes_sent", stats.bytes_sent},
           {"clients", stats.stream_clients.size()},

@@ -46,10 +46,23 @@ struct HttpServerConfig {
   // until it catches up: about five 640x480 frames at quality 80 (~45 KB each), bounding
   // both memory per client and how stale a slow client's picture can get.
   std::size_t client_buffer_limit = std::size_t{256} * 1024;
-  // A stream client that has accepted no byte for this long is disconnected.
+  // A stream client is disconnected when a frame queued for it has not been taken whole this
+  // long after it was queued: one that stops reading, and one that reads a trickle (a byte
+  // now and then used to reset the timer forever), about 10 KB/s or less with the defaults
+  // (the queue of a client at the buffer limit is ~300 KB). Its slot is then free.
   std::chrono::seconds stalled_client_timeout{30};
-  // Requests other than streams (and idle keep-alive connections) time out after this.
+  // Requests other than streams time out after this much inactivity.
   std::chrono::seconds request_timeout{30};
+  // Open connections at most (streams included); past it the oldest connections still
+  // waiting for their request's headers are closed to make room, so a flood of idle or
+  // slow connections cannot keep a new viewer out. 512 keeps the server within half of
+  // systemd's default LimitNOFILE soft limit (1024), beside the ~100 descriptors the service
+  // holds itself, and ~16 KB of header buffer each (8 MB at most). docs/security.md "Limits".
+  int max_connections = 512;
+  // A request's headers must all arrive within this of the connection's accept (or of the
+  // end of the previous response on a keep-alive connection), however steadily they trickle
+  // in: the slowloris bound. A browser sends them in one packet.
+  std::chrono::milliseconds header_timeout{10000};
   int max_stream_clients = 32;  // more get 503: an SBC's uplink is the limit long before
   int jpeg_quality = 80;        // of the frames the pipeline encodes for this server
   HttpAccessConfig access;      // Host check, authentication, CORS (app/outputs/http_access.hpp)
@@ -71,6 +84,10 @@ struct HttpServerStats {
   std::uint64_t requests = 0;
   std::uint64_t refused = 0;          // failed the Host check or authentication
   std::uint64_t accept_failures = 0;  // accept() errors (out of descriptors), each a pause
+  std::size_t connections = 0;        // open now, streams included
+  std::uint64_t header_timeouts = 0;  // closed: headers not complete within header_timeout
+  std::uint64_t evicted = 0;          // closed waiting for headers to stay within max_connections
+  std::uint64_t slow_streams_dropped = 0;  // stream clients cut by stalled_client_timeout
   std::uint64_t frames_published = 0;
   std::uint64_t bytes_sent = 0;  // handed to the kernel, all responses
   std::vector<StreamClientStats> stream_clients;

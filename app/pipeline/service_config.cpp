@@ -2,6 +2,7 @@
 
 #include <toml++/toml.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -179,7 +180,8 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   if (auto* t = r.optional_table(root, "http")) {
     r.only(*t, "[http]",
            {"enabled", "address", "port", "jpeg_quality", "allowed_hosts", "auth", "user",
-            "password", "token", "cors_origin", "max_streams_per_peer"});
+            "password", "token", "cors_origin", "max_streams_per_peer", "max_connections",
+            "max_stream_clients", "header_timeout_s", "stalled_client_timeout_s"});
     r.get(*t, "enabled", c.http.enabled);
     r.get(*t, "address", c.http.address);
     r.get(*t, "port", c.http.port);
@@ -188,6 +190,22 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     if (c.http.jpeg_quality < 1 || c.http.jpeg_quality > 100)
       r.fail(t->get("jpeg_quality"), "jpeg_quality must be 1..100");
     parse_http_access(r, *t, c.http.access);
+    double header_s = static_cast<double>(c.http.header_timeout.count()) / 1000;
+    int stalled_s = static_cast<int>(c.http.stalled_client_timeout.count());
+    r.get(*t, "max_connections", c.http.max_connections);
+    r.get(*t, "max_stream_clients", c.http.max_stream_clients);
+    if (c.http.max_stream_clients < 1 || c.http.max_stream_clients > 4096)
+      r.fail(t->get("max_stream_clients"), "max_stream_clients must be 1..4096");
+    r.get(*t, "header_timeout_s", header_s);
+    r.get(*t, "stalled_client_timeout_s", stalled_s);
+    if (c.http.max_connections < 1 || c.http.max_connections > 65536)
+      r.fail(t->get("max_connections"), "max_connections must be 1..65536");
+    if (!(header_s >= 0.1 && header_s <= 600))
+      r.fail(t->get("header_timeout_s"), "header_timeout_s must be 0.1..600");
+    if (stalled_s < 1 || stalled_s > 3600)
+      r.fail(t->get("stalled_client_timeout_s"), "stalled_client_timeout_s must be 1..3600");
+    c.http.header_timeout = std::chrono::milliseconds(std::lround(header_s * 1000));
+    c.http.stalled_client_timeout = std::chrono::seconds(stalled_s);
   }
   if (auto* t = r.optional_table(root, "rtsp")) {
     r.only(*t, "[rtsp]",

@@ -70,18 +70,27 @@ ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
       state_ = SourceState::Ended;
       return ReadResult::EndOfStream;
     }
-    if (next_ >= options_.stall_begin && next_ < options_.stall_end) {
+    // With stall_every, the stall [begin, end) repeats every stall_every frames (a replug).
+    std::int64_t stall_begin = options_.stall_begin, stall_end = options_.stall_end;
+    if (options_.stall_every > 0 && next_ >= stall_begin) {
+      const std::int64_t shift =
+          (next_ - stall_begin) / options_.stall_every * options_.stall_every;
+      stall_begin += shift;
+      stall_end += shift;
+    }
+    if (next_ >= stall_begin && next_ < stall_end) {
       // A stall lasts as long as its frames would have, in wall-clock time, in both modes.
       state_ = SourceState::NoSignal;
-      TimestampNs end = pacer_.timestamp(options_.stall_end);
+      TimestampNs end = pacer_.timestamp(stall_end);
       if (!pacer_.realtime()) {
         if (stall_wall_end_ == 0)
           stall_wall_end_ =
-              monotonic_now_ns() + pacer_.timestamp(options_.stall_end) - pacer_.timestamp(next_);
+              monotonic_now_ns() + pacer_.timestamp(stall_end) - pacer_.timestamp(next_);
         end = stall_wall_end_;
       }
       if (!FramePacer::wait_until(end, timeout)) return ReadResult::NoFrameYet;
-      next_ = options_.stall_end;
+      next_ = stall_end;
+      stall_wall_end_ = 0;
       continue;
     }
     if (pacer_.realtime()) {

@@ -141,6 +141,9 @@ SimOptions parse_sim_options(std::string_view spec) {
       o.stall_begin = parse_number<std::int64_t>(key, value.substr(0, colon), "BEGIN:END");
       o.stall_end = parse_number<std::int64_t>(key, value.substr(colon + 1), "BEGIN:END");
       if (o.stall_begin < 0 || o.stall_end < o.stall_begin) bad(key, value, "0 <= BEGIN <= END");
+    } else if (key == "stall_every") {
+      o.stall_every = parse_number<std::int64_t>(key, value, "a frame count");
+      if (o.stall_every < 0) bad(key, value, ">= 0 frames");
     } else if (key == "truth" || key == "ground_truth") {
       o.ground_truth = parse_bool(key, value);
     } else if (key == "threads") {
@@ -156,7 +159,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam, "
           "fisheye_ocam_model, "
           "frames, "
-          "prerender, stall, "
+          "prerender, stall, stall_every, "
           "truth, "
           "threads, start, board, near_occluder)");
     }

@@ -49,6 +49,9 @@ struct SimOptions {
   // not delivered: read() returns NoFrameYet and state() says NoSignal during that span (as
   // long in wall-clock time as those frames would have taken, in both modes); then it resumes.
   std::int64_t stall_begin = -1, stall_end = -1;
+  // > 0: the stall repeats every this many frames (frames [begin + k every, end + k every)):
+  // the soak's replug of the source every minute (lab bench soak).
+  std::int64_t stall_every = 0;
   bool ground_truth = true;  // attach FrameTruth
   int render_threads = 2;    // per source; rendering is split across rows
   // A ChArUco board (board_spec()) lying on the table at board_world_pose(): ground truth for
@@ -76,8 +79,8 @@ struct SimOptions {
 // (static|orbit|handheld|tabletop|calibration), fps (RGB-D), rgbd_fps, fisheye_fps, realtime,
 // fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file),
 // fisheye_ocam_model (ocam or kannala_brandt: that lens fitted), frames (max_frames), stall
-// (BEGIN:END), truth, threads, start (seconds of world time at the first frame),
-// near_occluder (0|1).
+// (BEGIN:END), stall_every (frames), truth, threads, start (seconds of world time at the first
+// frame), near_occluder (0|1).
 SimOptions parse_sim_options(std::string_view spec);
 
 // Rig from drivers/source.hpp (rgbd + fisheye + calibration, and its scene: object_anchor()

@@ -32,6 +32,10 @@ void add_bench_sim_command(CLI::App& bench);
 void add_bench_light_command(CLI::App& bench);
 // probeless bench tracking [--dataset tum:DIR --frames N --json F] (bench_tracking_command.cpp)
 void add_bench_tracking_command(CLI::App& bench);
+// probeless bench soak [--minutes N --json F] (bench_soak_command.cpp)
+void add_bench_soak_command(CLI::App& bench);
+// probeless bench http [--json F] (bench_http_command.cpp)
+void add_bench_http_command(CLI::App& bench);
 
 // probeless eval occlusion --dataset KIND:DIR [--json F --plots D] (eval_occlusion_command.cpp)
 void add_eval_occlusion_command(CLI::App& eval);

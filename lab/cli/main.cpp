@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
     probeless::cli::add_bench_occlusion_command(*bench);
     probeless::cli::add_bench_light_command(*bench);
     probeless::cli::add_bench_tracking_command(*bench);
+    probeless::cli::add_bench_soak_command(*bench);
+    probeless::cli::add_bench_http_command(*bench);
     auto* eval = a.add_subcommand("eval", "Evaluations against ground truth");
     eval->require_subcommand(1);
     probeless::cli::add_eval_occlusion_command(*eval);

@@ -71,6 +71,7 @@ class TcpClient {
     return true;
   }
   bool eof() const { return eof_; }
+  int fd() const { return fd_; }
 
  private:
   int fd_ = -1;
