@@ -140,12 +140,14 @@ std::vector<std::string_view> split_whitespace(std::string_view line) {
   return fields;
 }
 
-std::vector<std::string> read_text_lines(const std::filesystem::path& path) {
+std::vector<std::string> read_text_lines(const std::filesystem::path& path,
+                                         bool complete_lines_only) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ParseError(path.string(), 0, "cannot open for reading");
   std::vector<std::string> lines;
   std::string line;
   while (std::getline(in, line)) {
+    if (in.eof() && complete_lines_only) break;  // no "\n" after it
     if (!line.empty() && line.back() == '\r') line.pop_back();
     lines.push_back(std::move(line));
   }

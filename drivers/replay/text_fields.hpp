@@ -42,7 +42,9 @@ std::vector<std::string_view> split_fields(std::string_view line, char separator
 std::vector<std::string_view> split_whitespace(std::string_view line);
 
 // A whole text file as lines (without "\n" or a trailing "\r"). Throws ParseError (line 0)
-// when the file cannot be read.
-std::vector<std::string> read_text_lines(const std::filesystem::path& path);
+// when the file cannot be read. `complete_lines_only`: a last line without its "\n" (a
+// write cut short by a crash) is left out.
+std::vector<std::string> read_text_lines(const std::filesystem::path& path,
+                                         bool complete_lines_only = false);
 
 }  // namespace probeless::replay

@@ -4,8 +4,9 @@
 
 namespace probeless::replay {
 
-std::vector<TumPoseLine> read_tum_trajectory(const std::filesystem::path& path) {
-  const std::vector<std::string> lines = read_text_lines(path);
+std::vector<TumPoseLine> read_tum_trajectory(const std::filesystem::path& path,
+                                             bool complete_lines_only) {
+  const std::vector<std::string> lines = read_text_lines(path, complete_lines_only);
   std::vector<TumPoseLine> poses;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const TextLocation where{path.string(), static_cast<int>(i + 1)};
