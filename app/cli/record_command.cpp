@@ -9,8 +9,8 @@
 #include <condition_variable>
 #include <csignal>
 #include <exception>
-#include <functional>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <mutex>
@@ -42,7 +42,9 @@ struct RecordOptions {
 
 // Set by SIGINT/SIGTERM while recording: finish the recording cleanly instead of dying.
 std::atomic<bool> g_interrupted{false};
-extern "C" void on_stop_signal(int) { g_interrupted.store(true); }
+extern "C" void on_stop_signal(int) {
+  g_interrupted.store(true);
+}
 
 class StopSignals {
  public:
@@ -159,7 +161,8 @@ void check_target(const RecordOptions& o) {
   if (!fs::exists(dir)) return;
   if (!fs::is_directory(dir)) throw CommandError(o.dir + ": exists and is not a directory");
   if (!fs::is_empty(dir) && !o.force) {
-    throw CommandError(o.dir + ": directory is not empty (use --force to replace a recording there)");
+    throw CommandError(o.dir +
+                       ": directory is not empty (use --force to replace a recording there)");
   }
 }
 
@@ -176,7 +179,8 @@ void run_record(const RecordOptions& o) {
   wo.sync = !o.no_sync;
   replay::RecordingWriter writer(o.dir, rig.calibration, wo);
   spdlog::info("recording {} to {}{}", o.source, o.dir,
-               o.frames > 0 ? fmt::format(" ({} RGB-D frames)", o.frames) : " (until the source ends or Ctrl-C)");
+               o.frames > 0 ? fmt::format(" ({} RGB-D frames)", o.frames)
+                            : " (until the source ends or Ctrl-C)");
 
   Shared shared;
   StopSignals signals;

@@ -48,8 +48,12 @@ void AppendFile::close() {
   if (fd >= 0 && ::close(fd) != 0 && errno != EINTR) fail(path_, "close failed");
 }
 
-void sync_file(const std::filesystem::path& path) { sync_path(path, O_RDONLY); }
+void sync_file(const std::filesystem::path& path) {
+  sync_path(path, O_RDONLY);
+}
 
-void sync_directory(const std::filesystem::path& dir) { sync_path(dir, O_RDONLY | O_DIRECTORY); }
+void sync_directory(const std::filesystem::path& dir) {
+  sync_path(dir, O_RDONLY | O_DIRECTORY);
+}
 
 }  // namespace probeless::replay

@@ -241,22 +241,22 @@ std::shared_ptr<const Recording> Recording::open(const fs::path& dir) {
 
   const fs::path rgbd_index = dir / files::kRgbdIndex;
   std::vector<std::size_t> rgbd_poses;
-  for_each_row(rgbd_index, kRgbdIndexHeader, 9, incomplete, [&](const auto& f, const TextLocation& where) {
-    RgbdEntry e;
-    e.line = where.line;
-    e.sequence = parse_uint64(f[0], where, "sequence");
-    e.timestamp_ns = parse_int64(f[1], where, "timestamp_ns");
-    e.colour = checked_file(dir, f[2], where, "color");
-    e.depth = checked_file(dir, f[3], where, "depth");
-    bool wants_pose = false;
-    e.truth = parse_truth(dir, f, 4, where, &wants_pose);
-    if (wants_pose) rgbd_poses.push_back(rec->rgbd_.size());
-    rec->rgbd_.push_back(std::move(e));
-  });
+  for_each_row(rgbd_index, kRgbdIndexHeader, 9, incomplete,
+               [&](const auto& f, const TextLocation& where) {
+                 RgbdEntry e;
+                 e.line = where.line;
+                 e.sequence = parse_uint64(f[0], where, "sequence");
+                 e.timestamp_ns = parse_int64(f[1], where, "timestamp_ns");
+                 e.colour = checked_file(dir, f[2], where, "color");
+                 e.depth = checked_file(dir, f[3], where, "depth");
+                 bool wants_pose = false;
+                 e.truth = parse_truth(dir, f, 4, where, &wants_pose);
+                 if (wants_pose) rgbd_poses.push_back(rec->rgbd_.size());
+                 rec->rgbd_.push_back(std::move(e));
+               });
   if (incomplete) rec->manifest_.rgbd_frames = static_cast<std::int64_t>(rec->rgbd_.size());
   check_count(rgbd_index, rec->rgbd_, rec->manifest_.rgbd_frames);
-  attach_poses(dir, files::kRgbdTrajectory, rec->rgbd_, rgbd_poses, files::kRgbdIndex,
-               incomplete);
+  attach_poses(dir, files::kRgbdTrajectory, rec->rgbd_, rgbd_poses, files::kRgbdIndex, incomplete);
 
   const fs::path fisheye_index = dir / files::kFisheyeIndex;
   std::vector<std::size_t> fisheye_poses;

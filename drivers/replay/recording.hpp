@@ -27,7 +27,7 @@
 namespace probeless::replay {
 
 inline constexpr const char* kRecordingFormatName = "probeless-recording";
-inline constexpr std::int64_t kRecordingFormatVersion = 2;  // what the writer writes
+inline constexpr std::int64_t kRecordingFormatVersion = 2;        // what the writer writes
 inline constexpr std::int64_t kOldestRecordingFormatVersion = 1;  // readers read 1 and 2
 
 // File names inside a recording directory (fixed by the format).

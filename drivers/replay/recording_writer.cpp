@@ -4,9 +4,9 @@
 #include <toml++/toml.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
-#include <algorithm>
 #include <sstream>
 #include <stdexcept>
 
@@ -189,8 +189,9 @@ std::string RecordingWriter::write_truth(Stream& stream, const char* trajectory_
   if (truth->rig_pose) {
     if (!stream.trajectory.is_open()) {
       stream.trajectory = AppendFile(dir_ / trajectory_name);
-      stream.trajectory.append(std::string("# rig pose T_world_rig at each frame with truth_pose = 1\n") +
-                               kTumTrajectoryHeader);
+      stream.trajectory.append(
+          std::string("# rig pose T_world_rig at each frame with truth_pose = 1\n") +
+          kTumTrajectoryHeader);
       if (options_.sync) sync_directory(dir_);
     }
     // Before the index line: a pose without its frame (the frame in flight) is ignored by
@@ -246,10 +247,10 @@ void RecordingWriter::append(const FisheyeFrame& frame) {
                   name, frame.truth, frame.timestamp_ns, written);
   const ExposureStamp& e = frame.exposure;
   commit(fisheye_, written,
-                   fmt::format("{},{},fisheye/{},{},{},{},{},{},{},{},{}", frame.sequence,
-                               frame.timestamp_ns, name, frame.bit_depth, frame.black_level,
-                               format_double(e.exposure.time_s), format_double(e.exposure.gain_db),
-                               to_string(e.level), e.cycle_position, e.cycle, truth));
+         fmt::format("{},{},fisheye/{},{},{},{},{},{},{},{},{}", frame.sequence, frame.timestamp_ns,
+                     name, frame.bit_depth, frame.black_level, format_double(e.exposure.time_s),
+                     format_double(e.exposure.gain_db), to_string(e.level), e.cycle_position,
+                     e.cycle, truth));
   if (i == 0) fisheye_.first_ns = frame.timestamp_ns;
   fisheye_.last_ns = frame.timestamp_ns;
   fisheye_.count.store(i + 1);

@@ -24,8 +24,7 @@ struct TextLocation {
 std::string format_double(double value);  // shortest round-trip form
 double parse_double(std::string_view text, const TextLocation& where, std::string_view what);
 std::int64_t parse_int64(std::string_view text, const TextLocation& where, std::string_view what);
-std::uint64_t parse_uint64(std::string_view text, const TextLocation& where,
-                           std::string_view what);
+std::uint64_t parse_uint64(std::string_view text, const TextLocation& where, std::string_view what);
 // Within [lo, hi]; otherwise a ParseError naming `what` and the range.
 std::int64_t parse_int_in(std::string_view text, std::int64_t lo, std::int64_t hi,
                           const TextLocation& where, std::string_view what);

@@ -19,7 +19,8 @@ std::vector<TumPoseLine> read_tum_trajectory(const std::filesystem::path& path,
     TumPoseLine p;
     p.line = where.line;
     p.timestamp_ns = parse_seconds(fields[0], where);
-    p.pose.translation = {parse_double(fields[1], where, "tx"), parse_double(fields[2], where, "ty"),
+    p.pose.translation = {parse_double(fields[1], where, "tx"),
+                          parse_double(fields[2], where, "ty"),
                           parse_double(fields[3], where, "tz")};
     const double qx = parse_double(fields[4], where, "qx");
     const double qy = parse_double(fields[5], where, "qy");

@@ -7,15 +7,15 @@
 // The kill points are set by the recorder's progress, not by the clock (start-up took 0.1
 // to 1.5 s on the shared test machine): a random wait during start-up, or a random part of
 // a frame's time after the k-th index line appeared, k random.
-#include <gtest/gtest.h>
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 
 #include <chrono>
-#include <fstream>
 #include <cstdlib>
+#include <fstream>
 #include <random>
 #include <thread>
 
@@ -52,14 +52,15 @@ std::size_t index_lines(const fs::path& index) {
 }
 
 struct KillPoint {
-  std::string after_file;        // wait for this file of the recording to appear first
-  std::size_t after_frames = 0;  // wait for this many rgbd.csv lines first (0: do not wait)
+  std::string after_file;              // wait for this file of the recording to appear first
+  std::size_t after_frames = 0;        // wait for this many rgbd.csv lines first (0: do not wait)
   std::chrono::microseconds delay{0};  // then this long
 };
 
 // Spawns the recorder, kills it at `point`, then checks what it left.
 KillOutcome record_and_kill(const char* binary, const fs::path& dir, KillPoint point, int seed) {
-  const std::string source = "sim:realtime=0,fisheye_size=64,threads=1,seed=" + std::to_string(seed);
+  const std::string source =
+      "sim:realtime=0,fisheye_size=64,threads=1,seed=" + std::to_string(seed);
   std::vector<std::string> args = {binary, "record", "--source", source, dir.string()};
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -98,8 +99,8 @@ KillOutcome record_and_kill(const char* binary, const fs::path& dir, KillPoint p
   try {
     rec = Recording::open(dir);
   } catch (const std::exception& e) {
-    ADD_FAILURE() << "killed after frame " << point.after_frames << " + "
-                  << point.delay.count() << " us: " << e.what();
+    ADD_FAILURE() << "killed after frame " << point.after_frames << " + " << point.delay.count()
+                  << " us: " << e.what();
     return out;
   }
   EXPECT_FALSE(rec->manifest().complete);
