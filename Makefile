@@ -31,10 +31,12 @@ test-asan:
 # left in build/fuzz/crashes/<name>/, and the target fails.
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS ?=
+# FUZZ_RUNS=1000000: stop each target after that many inputs (if before FUZZ_SECONDS).
+FUZZ_RUNS ?=
 fuzz:
 	cmake --preset fuzz
 	cmake --build --preset fuzz -j $(JOBS)
-	tests/fuzz/run_fuzz.sh build/fuzz $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+	FUZZ_RUNS=$(FUZZ_RUNS) tests/fuzz/run_fuzz.sh build/fuzz $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 
 demo: build
 	$(PROBELESS) run

@@ -24,7 +24,23 @@ struct RunArgs {
   std::int64_t frames = 0;
   bool matte = false;
   std::int64_t fault_hang_after = -1;
+  std::string fault_hang;  // THREAD:N
 };
+
+// "light:40" -> the watchdog tests' fault (PipelineOptions::hang_thread, hang_after_beats).
+void parse_fault_hang(const std::string& spec, PipelineOptions& options) {
+  const auto colon = spec.find(':');
+  const std::string thread = spec.substr(0, colon);
+  if (colon == std::string::npos ||
+      (thread != "light" && thread != "output" && thread != "http" && thread != "rtsp"))
+    throw CommandError("--fault-hang: expected THREAD:N, THREAD one of light, output, http, rtsp");
+  options.hang_thread = thread;
+  try {
+    options.hang_after_beats = std::stoll(spec.substr(colon + 1));
+  } catch (const std::exception&) {
+    throw CommandError("--fault-hang: N must be an integer");
+  }
+}
 
 std::string status_line(const nlohmann::json& s) {
   return fmt::format("{} fps {:.1f}, {} frames, rgbd {}", s.value("state", "?"),
@@ -47,6 +63,7 @@ void run(const RunArgs& args) {
   PipelineOptions options;
   options.notifier = &notifier;
   options.hang_after_frames = args.fault_hang_after;
+  if (!args.fault_hang.empty()) parse_fault_hang(args.fault_hang, options);
   Pipeline pipeline(config, open_rig(config.source), options);
   pipeline.start();
   if (!pipeline.url().empty())
@@ -87,6 +104,10 @@ void add_run_command(CLI::App& app) {
   // Not in --help: the watchdog test's fault (PipelineOptions::hang_after_frames).
   cmd->add_option("--fault-hang-after", args->fault_hang_after,
                   "Fault injection: hang the processing loop after N frames")
+      ->group("");
+  cmd->add_option("--fault-hang", args->fault_hang,
+                  "Fault injection: THREAD:N, the thread (light, output, http, rtsp) hangs at "
+                  "its N-th heartbeat")
       ->group("");
   cmd->add_option("--config", args->config_path, "TOML configuration (docs/configuration.md)")
       ->check(CLI::ExistingFile);

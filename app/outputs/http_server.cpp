@@ -29,6 +29,7 @@
 
 #include "app/outputs/http_connections.hpp"
 #include "app/outputs/viewer_page.hpp"
+#include "app/service/heartbeat.hpp"
 #include "base/latest_frame.hpp"
 
 namespace probeless {
@@ -164,6 +165,7 @@ struct HttpServer::Impl {
   HttpConnectionCounts connection_counts;  // a copy for stats(), updated each sweep
   std::uint64_t bytes_queued = 0;          // every response body and stream part
   std::uint64_t bytes_dropped = 0;         // queued to clients that closed before taking it
+  Heartbeat heartbeat;                     // beaten on the server thread by watch()'s timer
 
   void setup();
   void teardown();
@@ -718,6 +720,28 @@ void HttpServer::stop() {
   }
   if (impl_->thread.joinable()) impl_->thread.join();
   impl_->teardown();
+  impl_->heartbeat = {};  // stopped on purpose: no longer watched
+}
+
+namespace {
+
+constexpr timeval kHeartbeatEvery{0, 250'000};
+
+// A one-shot timer that re-arms itself: libevent frees one-shot events with the base, so
+// teardown() needs no part in it.
+void on_heartbeat_cb(evutil_socket_t, short, void* arg) {
+  auto* impl = static_cast<HttpServer::Impl*>(arg);
+  impl->heartbeat.beat();
+  event_base_once(impl->base, -1, EV_TIMEOUT, on_heartbeat_cb, impl, &kHeartbeatEvery);
+}
+
+}  // namespace
+
+void HttpServer::watch(HeartbeatRegistry& heartbeats) {
+  std::lock_guard lock(impl_->wake_mutex);
+  if (!impl_->running) return;
+  impl_->heartbeat = heartbeats.add("http");
+  event_base_once(impl_->base, -1, EV_TIMEOUT, on_heartbeat_cb, impl_.get(), &kHeartbeatEvery);
 }
 
 HttpServerStats HttpServer::stats() const {

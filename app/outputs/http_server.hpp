@@ -129,6 +129,9 @@ class HttpServer final : public Output {
 
   HttpServerStats stats() const;
 
+  // The event loop beats "http" every 250 ms from a timer of its own (issue #20 item 6).
+  void watch(HeartbeatRegistry& heartbeats) override;
+
   struct Impl;
 
  private:

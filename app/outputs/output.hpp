@@ -19,6 +19,8 @@
 
 namespace probeless {
 
+class HeartbeatRegistry;
+
 struct OutputNeeds {
   bool jpeg = false;
   int jpeg_quality = 80;  // with jpeg; one encode per frame takes the best quality asked
@@ -48,6 +50,9 @@ class Output {
   virtual void add_status(nlohmann::json& /*status*/) const {}
   // Where a viewer reaches it ("http://...", "rtsp://..."); empty for outputs not served.
   virtual std::string url() const { return {}; }
+  // An output with an event loop of its own registers it with the service watchdog
+  // (app/service/heartbeat.hpp) and beats from a timer in that loop. Once, after start.
+  virtual void watch(HeartbeatRegistry& /*heartbeats*/) {}
   // Drains or drops what is queued and joins the output's thread. Idempotent.
   virtual void stop() = 0;
 };

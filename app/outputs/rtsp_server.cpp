@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "app/outputs/gst_objects.hpp"
+#include "app/service/heartbeat.hpp"
 
 namespace probeless {
 namespace {
@@ -188,6 +189,8 @@ struct RtspServer::Impl {
   std::thread thread;
   std::mutex stop_mutex;
   bool stopped = false;
+  Heartbeat heartbeat;  // beaten on the loop's thread by watch()'s timeout source
+  gst::Source heartbeat_source;
 };
 
 RtspServer::RtspServer(RtspServerConfig config) : impl_(std::make_unique<Impl>()) {
@@ -373,6 +376,8 @@ void RtspServer::stop() {
   g_source_set_callback(quit.get(), quit_loop, m.loop.get(), nullptr);
   g_source_attach(quit.get(), m.context.get());
   if (m.thread.joinable()) m.thread.join();
+  if (m.heartbeat_source) g_source_destroy(m.heartbeat_source.get());
+  m.heartbeat = {};  // stopped on purpose: no longer watched
   spdlog::info("rtsp: stopped ({} frames sent)", m.feed->sent.load());
 }
 
@@ -391,6 +396,25 @@ RtspServerStats RtspServer::stats() const {
   s.dropped_no_client = f.no_client;
   s.dropped_queue_full = f.queue_full;
   return s;
+}
+
+namespace {
+
+gboolean on_heartbeat(gpointer heartbeat) {
+  static_cast<Heartbeat*>(heartbeat)->beat();
+  return G_SOURCE_CONTINUE;
+}
+
+}  // namespace
+
+void RtspServer::watch(HeartbeatRegistry& heartbeats) {
+  Impl& m = *impl_;
+  std::lock_guard lock(m.stop_mutex);
+  if (m.stopped || m.heartbeat_source) return;
+  m.heartbeat = heartbeats.add("rtsp");
+  m.heartbeat_source = gst::Source::adopt(g_timeout_source_new(250));
+  g_source_set_callback(m.heartbeat_source.get(), on_heartbeat, &m.heartbeat, nullptr);
+  g_source_attach(m.heartbeat_source.get(), m.context.get());
 }
 
 }  // namespace probeless

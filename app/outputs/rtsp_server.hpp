@@ -105,6 +105,8 @@ class RtspServer final : public Output {
     push(frame.colour, frame.no_signal ? monotonic_now_ns() : frame.timestamp_ns);
   }
   void add_status(nlohmann::json& status) const override { status["rtsp"] = to_json(stats()); }
+  // The main loop beats "rtsp" every 250 ms from a timeout source (issue #20 item 6).
+  void watch(HeartbeatRegistry& heartbeats) override;
 
   RtspServerStats stats() const;
 

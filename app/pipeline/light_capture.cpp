@@ -187,10 +187,18 @@ bool LightCapture::initialise() {
   return true;
 }
 
-void LightCapture::run(std::stop_token stop, StageStats& stats) {
+void LightCapture::run(std::stop_token stop, StageStats& stats, HeartbeatRegistry& heartbeats) {
   if (!initialise()) return;
   name_this_thread("pl-light");  // after the OpenCL context: see Pipeline::process
+  // Watched from its first light frame on: that one builds the OpenCL programs (seconds on
+  // PoCL), and frames before it only wait for the tracker's first pose.
+  Heartbeat heartbeat;
   while (!stop.stop_requested()) {
+    if (!heartbeat) {
+      std::lock_guard lock(mutex_);
+      if (processed_ > 0) heartbeat = heartbeats.add("light");
+    }
+    heartbeat.beat();
     FisheyeFrame frame;
     {
       std::unique_lock lock(mutex_);

@@ -17,6 +17,7 @@
 
 #include "app/pipeline/pose_history.hpp"
 #include "app/pipeline/service_config.hpp"
+#include "app/service/heartbeat.hpp"
 #include "base/stage_stats.hpp"
 #include "core/calibration.hpp"
 #include "core/frame.hpp"
@@ -74,7 +75,8 @@ class LightCapture {
   void offer_rgbd(const RgbdFrame& frame);
 
   // The light thread's body: until stop is requested. Builds the OpenCL context first.
-  void run(std::stop_token stop, StageStats& stats);
+  // Beats `heartbeats`' "light" from its loop (at least every 100 ms while idle).
+  void run(std::stop_token stop, StageStats& stats, HeartbeatRegistry& heartbeats);
   // run() in two steps, for a caller that drives the stage itself frame by frame (`eval
   // render` takes every sim frame in order, deterministically): initialise() builds the
   // OpenCL context and the estimators; process() takes one frame through the update, the

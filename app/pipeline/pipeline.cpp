@@ -23,7 +23,11 @@ using namespace std::chrono_literals;
 }  // namespace
 
 Pipeline::Pipeline(ServiceConfig config, Rig rig, PipelineOptions options)
-    : config_(std::move(config)), rig_(std::move(rig)), options_(options) {
+    : config_(std::move(config)),
+      rig_(std::move(rig)),
+      options_(std::move(options)),
+      heartbeats_(options_.notifier ? ServiceWatchdog::stale_after(*options_.notifier)
+                                    : std::chrono::milliseconds(2000)) {
   if (!rig_.rgbd) throw std::invalid_argument("pipeline: the rig has no RGB-D source");
   if (config_.world.anchor != "rig") {
     // The world is the marker's or the floor's (docs/tracking.md "World anchoring"): the
@@ -42,6 +46,8 @@ Pipeline::~Pipeline() {
 void Pipeline::start() {
   started_ns_ = monotonic_now_ns();
   last_rgbd_ns_ = started_ns_;  // "no signal" counts from the start, not from 1970
+  if (!options_.hang_thread.empty())
+    heartbeats_.wedge_after(options_.hang_thread, options_.hang_after_beats);
   open_outputs();
   if (rig_.fisheye && config_.bracket_enabled) {
     bracket_ = std::make_unique<BracketSequencer>(config_.bracket);
@@ -70,7 +76,8 @@ void Pipeline::start() {
     name_this_thread("pl-rgbd");
     capture_rgbd(s);
   });
-  if (light_) threads_.emplace_back([this](std::stop_token s) { light_->run(s, stats_); });
+  if (light_)
+    threads_.emplace_back([this](std::stop_token s) { light_->run(s, stats_, heartbeats_); });
   if (rig_.fisheye)
     threads_.emplace_back([this](std::stop_token s) {
       name_this_thread("pl-fisheye");
@@ -81,6 +88,8 @@ void Pipeline::start() {
     name_this_thread("pl-output");
     output_loop(s);
   });
+  if (options_.notifier)
+    watchdog_ = std::make_unique<ServiceWatchdog>(*options_.notifier, heartbeats_);
 }
 
 void Pipeline::open_outputs() {
@@ -95,6 +104,7 @@ void Pipeline::open_outputs() {
   for (const auto& output : options_.outputs)
     if (output) outputs_.push_back(output);
   for (const auto& output : outputs_) {
+    output->watch(heartbeats_);  // the HTTP and RTSP loops beat from a timer of their own
     const OutputNeeds n = output->needs();
     if (n.jpeg)
       needs_.jpeg_quality =
@@ -111,6 +121,8 @@ void Pipeline::stop() {
     if (stopped_) return;
     stopped_ = true;
   }
+  watchdog_.reset();
+  heartbeats_.release_wedged();  // a thread wedged by fault injection can then be joined
   for (auto& t : threads_) t.request_stop();
   rgbd_credit_.release();  // a lossless capture thread may wait for a credit
   rgbd_slot_.close();
@@ -278,12 +290,10 @@ void Pipeline::process(std::stop_token stop) {
 
 void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
   LatestFrame<RgbdFrame>::Sequence seen = 0;
-  auto last_watchdog = std::chrono::steady_clock::now() - 1h;
-  auto last_banner = last_watchdog;
-  // Half the interval systemd gave, as sd_watchdog_enabled(3) advises; none without one.
-  std::optional<std::chrono::microseconds> watchdog_every;
-  if (options_.notifier && options_.notifier->watchdog_interval())
-    watchdog_every = *options_.notifier->watchdog_interval() / 2;
+  auto last_banner = std::chrono::steady_clock::now() - 1h;
+  // Watched from the first frame out: FrameProcessor's construction and first frame build
+  // the OpenCL programs (seconds each on PoCL, longer on a loaded board than WatchdogSec).
+  Heartbeat heartbeat;
 
   // Frame N+1 is tracked on the worker while frame N is composed here (tracking_worker.hpp):
   // `tracked` is a frame located and not yet composed, `next` the one the worker locates.
@@ -307,6 +317,7 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
     output_.publish(std::move(out));
     fps_.tick(monotonic_now_ns());
     const auto n = ++processed_;
+    if (n == 1) heartbeat = heartbeats_.add("processing");
     if (options_.hang_after_frames >= 0 &&
         static_cast<std::int64_t>(n) >= options_.hang_after_frames) {
       spdlog::warn("fault injection: the processing loop hangs after {} frames", n);
@@ -322,10 +333,7 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
 
   while (!stop.stop_requested()) {
     const auto now = std::chrono::steady_clock::now();
-    if (watchdog_every && now - last_watchdog >= *watchdog_every) {
-      options_.notifier->watchdog();  // from this loop: a hung pipeline stops the beat
-      last_watchdog = now;
-    }
+    heartbeat.beat();  // at least every 50 ms (take_newer's timeout) while the loop turns
     // With a frame waiting to be composed, only a frame already there is taken (to track it
     // meanwhile): the waiting one is not held back for a frame still to come.
     auto item = rgbd_slot_.take_newer(seen, tracked ? 0ms : 50ms);
@@ -398,7 +406,9 @@ void Pipeline::output_loop(std::stop_token stop) {
   std::optional<JpegEncoder> encoder;
   if (needs_.jpeg) encoder.emplace(needs_.jpeg_quality);
   LatestFrame<CompositeFrame>::Sequence seen = 0;
+  Heartbeat heartbeat = heartbeats_.add("output");
   while (!stop.stop_requested()) {
+    heartbeat.beat();  // at least every 100 ms (wait_newer's timeout)
     auto item = output_.wait_newer(seen, 100ms, stop);
     if (!item) continue;
     seen = item->sequence;
@@ -483,6 +493,7 @@ nlohmann::json Pipeline::status() const {
                           {"last_error", rig_.fisheye->last_error()}};
   j["sources"] = sources;
   j["light"] = light_ ? light_->status() : nlohmann::json{{"state", "off"}};
+  j["watchdog"] = heartbeats_.to_json();
   {
     std::lock_guard lock(state_mutex_);
     j["occlusion"] = occlusion_name_;

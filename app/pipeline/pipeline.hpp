@@ -19,7 +19,9 @@
 #include "app/outputs/output.hpp"
 #include "app/pipeline/pose_history.hpp"
 #include "app/pipeline/service_config.hpp"
+#include "app/service/heartbeat.hpp"
 #include "app/service/systemd_notifier.hpp"
+#include "app/service/watchdog.hpp"
 #include "base/latest_frame.hpp"
 #include "base/stage_stats.hpp"
 #include "core/frame.hpp"
@@ -50,12 +52,18 @@ struct PipelineOptions {
   bool serve_http = true;  // HTTP and RTSP from config; false: none (benchmarks)
   // Fed besides the outputs from config (the benchmark's JPEG sink, tests).
   std::vector<std::shared_ptr<Output>> outputs;
-  SystemdNotifier* notifier = nullptr;  // WATCHDOG=1 from the processing loop when set
+  // WATCHDOG=1 while every thread that matters beats (app/service/watchdog.hpp) when set.
+  SystemdNotifier* notifier = nullptr;
   // Fault injection for the watchdog test (`run --fault-hang-after N`): after N frames the
   // processing loop stops working, as one stuck in a driver or OpenCL call would: no frames,
   // no WATCHDOG=1, while every other thread goes on. It still honours stop(), so the test
   // can end it with SIGTERM. -1: off.
   std::int64_t hang_after_frames = -1;
+  // Fault injection for the watchdog tests of the other threads (`run --fault-hang
+  // THREAD:N`): the heartbeat called `hang_thread` ("light", "output", "http", "rtsp") blocks
+  // at its N-th beat (HeartbeatRegistry::wedge_after) until stop(). Empty: off.
+  std::string hang_thread;
+  std::int64_t hang_after_beats = -1;
 };
 
 class Pipeline {
@@ -105,6 +113,8 @@ class Pipeline {
   ServiceConfig config_;
   Rig rig_;
   PipelineOptions options_;
+  // First among the members that threads use, so it outlives every Heartbeat.
+  HeartbeatRegistry heartbeats_;
   StageStats stats_;
   RateMeter fps_;
   TimestampNs started_ns_ = 0;
@@ -154,6 +164,7 @@ class Pipeline {
   bool stopped_ = false;
 
   std::vector<std::jthread> threads_;
+  std::unique_ptr<ServiceWatchdog> watchdog_;
 };
 
 }  // namespace probeless

@@ -76,8 +76,8 @@ class ManifestReader {
 RecordingManifest parse_manifest(const fs::path& path) {
   if (!fs::exists(path)) {
     throw ParseError(path.string(), 0,
-                     "missing: not a complete recording (it was interrupted, or this is not a "
-                     "recording directory)");
+                     "missing: not a recording (or one interrupted before its first frame, or a "
+                     "version-1 recording that was interrupted)");
   }
   const std::string text = read_whole_file(path);
   toml::table root;
@@ -97,19 +97,28 @@ RecordingManifest parse_manifest(const fs::path& path) {
   const toml::node& version = r.require("version");
   const auto v = version.value_exact<std::int64_t>();
   if (!v) throw ParseError(path.string(), node_line(version), "'version' must be an integer");
-  if (*v != kRecordingFormatVersion) {
+  if (*v < kOldestRecordingFormatVersion || *v > kRecordingFormatVersion) {
     throw ParseError(path.string(), node_line(version),
                      "unsupported recording version " + std::to_string(*v) +
-                         " (this build reads version " + std::to_string(kRecordingFormatVersion) +
-                         ")");
+                         " (this build reads versions " +
+                         std::to_string(kOldestRecordingFormatVersion) + " to " +
+                         std::to_string(kRecordingFormatVersion) + ")");
   }
   m.version = *v;
+  if (m.version >= 2) {  // version 1 wrote its manifest only when complete
+    const toml::node& complete = r.require("complete");
+    const auto c = complete.value_exact<bool>();
+    if (!c) throw ParseError(path.string(), node_line(complete), "'complete' must be a boolean");
+    m.complete = *c;
+  }
   m.created_utc = r.optional_string("created.utc");
   m.created_by = r.optional_string("created.by");
   m.source = r.optional_string("created.source");
   constexpr std::int64_t kMaxFrames = std::int64_t{1} << 40;
-  m.rgbd_frames = r.integer("rgbd.frames", 0, kMaxFrames);
-  m.fisheye_frames = r.integer("fisheye.frames", 0, kMaxFrames);
+  if (m.complete) {  // an incomplete recording's counts are what its indexes hold
+    m.rgbd_frames = r.integer("rgbd.frames", 0, kMaxFrames);
+    m.fisheye_frames = r.integer("fisheye.frames", 0, kMaxFrames);
+  }
   return m;
 }
 
@@ -158,9 +167,11 @@ TruthEntry parse_truth(const fs::path& dir, const std::vector<std::string_view>&
 }
 
 // Lines of an index after its header, with their 1-based numbers; empty lines are skipped.
+// `complete_lines_only`: a last line without "\n" (the frame in flight) is left out.
 template <typename Row>
-void for_each_row(const fs::path& path, const char* header, std::size_t columns, Row&& row) {
-  const std::vector<std::string> lines = read_text_lines(path);
+void for_each_row(const fs::path& path, const char* header, std::size_t columns,
+                  bool complete_lines_only, Row&& row) {
+  const std::vector<std::string> lines = read_text_lines(path, complete_lines_only);
   if (lines.empty() || lines.front() != header) {
     throw ParseError(path.string(), 1,
                      std::string("unexpected header (expected '") + header + "')");
@@ -178,18 +189,20 @@ void for_each_row(const fs::path& path, const char* header, std::size_t columns,
 }
 
 // Fills rig_pose of the entries that want one, in order, from a TUM trajectory whose lines
-// correspond one to one (same timestamps).
+// correspond one to one (same timestamps). An incomplete recording's trajectory may hold
+// poses past the last indexed frame (written before its index line): they are ignored.
 template <typename Entry>
 void attach_poses(const fs::path& dir, const char* file, std::vector<Entry>& entries,
-                  const std::vector<std::size_t>& wanting, const char* index_name) {
+                  const std::vector<std::size_t>& wanting, const char* index_name,
+                  bool incomplete) {
   if (wanting.empty()) return;
   const fs::path path = dir / file;
   if (!fs::exists(path)) {
     throw ParseError(path.string(), 0,
                      "missing, but " + std::string(index_name) + " has frames with truth_pose = 1");
   }
-  const std::vector<TumPoseLine> poses = read_tum_trajectory(path);
-  if (poses.size() != wanting.size()) {
+  const std::vector<TumPoseLine> poses = read_tum_trajectory(path, incomplete);
+  if (poses.size() != wanting.size() && !(incomplete && poses.size() > wanting.size())) {
     throw ParseError(path.string(), poses.empty() ? 0 : poses.back().line,
                      "has " + std::to_string(poses.size()) + " poses, but " + index_name + " has " +
                          std::to_string(wanting.size()) + " frames with truth_pose = 1");
@@ -222,29 +235,32 @@ std::shared_ptr<const Recording> Recording::open(const fs::path& dir) {
   auto rec = std::make_shared<Recording>();
   rec->dir_ = dir;
   rec->manifest_ = parse_manifest(dir / files::kManifest);
+  const bool incomplete = !rec->manifest_.complete;
 
   rec->calibration_ = load_rig_calibration(dir / files::kCalibration);
 
   const fs::path rgbd_index = dir / files::kRgbdIndex;
   std::vector<std::size_t> rgbd_poses;
-  for_each_row(rgbd_index, kRgbdIndexHeader, 9, [&](const auto& f, const TextLocation& where) {
-    RgbdEntry e;
-    e.line = where.line;
-    e.sequence = parse_uint64(f[0], where, "sequence");
-    e.timestamp_ns = parse_int64(f[1], where, "timestamp_ns");
-    e.colour = checked_file(dir, f[2], where, "color");
-    e.depth = checked_file(dir, f[3], where, "depth");
-    bool wants_pose = false;
-    e.truth = parse_truth(dir, f, 4, where, &wants_pose);
-    if (wants_pose) rgbd_poses.push_back(rec->rgbd_.size());
-    rec->rgbd_.push_back(std::move(e));
-  });
+  for_each_row(rgbd_index, kRgbdIndexHeader, 9, incomplete,
+               [&](const auto& f, const TextLocation& where) {
+                 RgbdEntry e;
+                 e.line = where.line;
+                 e.sequence = parse_uint64(f[0], where, "sequence");
+                 e.timestamp_ns = parse_int64(f[1], where, "timestamp_ns");
+                 e.colour = checked_file(dir, f[2], where, "color");
+                 e.depth = checked_file(dir, f[3], where, "depth");
+                 bool wants_pose = false;
+                 e.truth = parse_truth(dir, f, 4, where, &wants_pose);
+                 if (wants_pose) rgbd_poses.push_back(rec->rgbd_.size());
+                 rec->rgbd_.push_back(std::move(e));
+               });
+  if (incomplete) rec->manifest_.rgbd_frames = static_cast<std::int64_t>(rec->rgbd_.size());
   check_count(rgbd_index, rec->rgbd_, rec->manifest_.rgbd_frames);
-  attach_poses(dir, files::kRgbdTrajectory, rec->rgbd_, rgbd_poses, files::kRgbdIndex);
+  attach_poses(dir, files::kRgbdTrajectory, rec->rgbd_, rgbd_poses, files::kRgbdIndex, incomplete);
 
   const fs::path fisheye_index = dir / files::kFisheyeIndex;
   std::vector<std::size_t> fisheye_poses;
-  for_each_row(fisheye_index, kFisheyeIndexHeader, 15,
+  for_each_row(fisheye_index, kFisheyeIndexHeader, 15, incomplete,
                [&](const auto& f, const TextLocation& where) {
                  FisheyeEntry e;
                  e.line = where.line;
@@ -277,8 +293,12 @@ std::shared_ptr<const Recording> Recording::open(const fs::path& dir) {
                  if (wants_pose) fisheye_poses.push_back(rec->fisheye_.size());
                  rec->fisheye_.push_back(std::move(e));
                });
+  if (incomplete) {
+    rec->manifest_.fisheye_frames = static_cast<std::int64_t>(rec->fisheye_.size());
+  }
   check_count(fisheye_index, rec->fisheye_, rec->manifest_.fisheye_frames);
-  attach_poses(dir, files::kFisheyeTrajectory, rec->fisheye_, fisheye_poses, files::kFisheyeIndex);
+  attach_poses(dir, files::kFisheyeTrajectory, rec->fisheye_, fisheye_poses, files::kFisheyeIndex,
+               incomplete);
   return rec;
 }
 

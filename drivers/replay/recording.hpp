@@ -1,12 +1,16 @@
 #pragma once
 // The project's recording format (docs/formats.md "Recording format"): a directory with
-// manifest.toml (written last: without it the recording was interrupted), calibration.toml,
+// manifest.toml (version 2: written first with `complete = false`, rewritten at the end with
+// `complete = true` and the frame counts; version 1: written last), calibration.toml,
 // one line-based index per stream (rgbd.csv, fisheye.csv), one PNG per image, and, when the
 // frames carried ground truth, truth/ and TUM trajectories of the rig pose.
 //
 // Recording::open() reads and checks everything but the images: a malformed manifest, index
 // or trajectory line, or a file an index names but the directory lacks, is a ParseError that
 // names the file and line. Images are read per frame (ImageFileError on a bad one).
+// A version-2 recording with `complete = false` (interrupted, or still being written) opens
+// with the frames its indexes list: a last index or trajectory line cut short is ignored,
+// and so are poses and files that no index line names yet.
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -23,7 +27,8 @@
 namespace probeless::replay {
 
 inline constexpr const char* kRecordingFormatName = "probeless-recording";
-inline constexpr std::int64_t kRecordingFormatVersion = 1;
+inline constexpr std::int64_t kRecordingFormatVersion = 2;        // what the writer writes
+inline constexpr std::int64_t kOldestRecordingFormatVersion = 1;  // readers read 1 and 2
 
 // File names inside a recording directory (fixed by the format).
 namespace files {
@@ -74,6 +79,9 @@ struct FisheyeEntry {
 
 struct RecordingManifest {
   std::int64_t version = kRecordingFormatVersion;
+  // false: the writer never finished (killed, power cut, still recording); the frame counts
+  // below are then those salvaged from the indexes.
+  bool complete = true;
   std::string created_utc;  // informational
   std::string created_by;
   std::string source;  // the --source spec it was recorded from

@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <sstream>
@@ -34,7 +35,8 @@ constexpr const char* kRecordingEntries[] = {files::kManifest,
                                              "depth",
                                              "fisheye",
                                              "truth",
-                                             "manifest.toml.tmp"};
+                                             "manifest.toml.tmp",
+                                             "calibration.toml.tmp"};
 
 std::string frame_name(std::int64_t index, const char* extension) {
   return fmt::format("{:06d}.{}", index, extension);
@@ -61,24 +63,21 @@ std::string toml_string(const std::string& text) {
   return out.str();
 }
 
-void write_text_file_atomically(const fs::path& path, const std::string& text) {
+// Through NAME.tmp and rename; with `sync`, the file and then its directory are synced, so
+// the new content (not a torn or empty file) is what a power cut leaves.
+void write_text_file_atomically(const fs::path& path, const std::string& text, bool sync) {
   fs::path tmp = path;
   tmp += ".tmp";
   {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
+    AppendFile out(tmp);
+    out.append(text);
+    if (sync) out.sync();
     out.close();
-    if (!out) throw std::runtime_error(tmp.string() + ": cannot write");
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
   if (ec) throw std::runtime_error(path.string() + ": cannot rename from .tmp: " + ec.message());
-}
-
-std::ofstream open_for_append(const fs::path& path) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out) throw std::runtime_error(path.string() + ": cannot create");
-  return out;
+  if (sync) sync_directory(path.parent_path());
 }
 
 void create_dirs(const fs::path& path) {
@@ -111,6 +110,13 @@ RecordingWriter::RecordingWriter(fs::path dir, const RigCalibration& calibration
                               : "); choose another directory or overwrite it"));
     }
   }
+  const bool new_dir = !fs::exists(dir_);
+  create_dirs(dir_);
+  if (new_dir && options_.sync) {
+    fs::path absolute = fs::absolute(dir_);
+    if (absolute.filename().empty()) absolute = absolute.parent_path();  // "DIR/"
+    sync_directory(absolute.parent_path());
+  }
   for (const char* sub : {"rgb", "depth", "fisheye"}) create_dirs(dir_ / sub);
   std::string calibration_text;
   try {
@@ -118,14 +124,28 @@ RecordingWriter::RecordingWriter(fs::path dir, const RigCalibration& calibration
   } catch (const std::exception& e) {
     throw std::runtime_error(dir_.string() + ": cannot record the rig calibration: " + e.what());
   }
-  write_text_file_atomically(dir_ / files::kCalibration, calibration_text);
-  rgbd_.index = open_for_append(dir_ / files::kRgbdIndex);
-  rgbd_.index << kRgbdIndexHeader << '\n' << std::flush;
-  fisheye_.index = open_for_append(dir_ / files::kFisheyeIndex);
-  fisheye_.index << kFisheyeIndexHeader << '\n' << std::flush;
+  write_text_file_atomically(dir_ / files::kCalibration, calibration_text, options_.sync);
+  rgbd_.index = AppendFile(dir_ / files::kRgbdIndex);
+  rgbd_.index.append(std::string(kRgbdIndexHeader) + '\n');
+  fisheye_.index = AppendFile(dir_ / files::kFisheyeIndex);
+  fisheye_.index.append(std::string(kFisheyeIndexHeader) + '\n');
+  if (options_.sync) {
+    rgbd_.index.sync();
+    fisheye_.index.sync();
+  }
+  // Last: a directory with a manifest has everything a recording of no frames has.
+  write_manifest(false);
 }
 
-RecordingWriter::~RecordingWriter() = default;  // unfinished: no manifest, by design
+// Unfinished: the manifest keeps `complete = false`, and readers salvage the frames indexed.
+RecordingWriter::~RecordingWriter() = default;
+
+void RecordingWriter::create_dir(const fs::path& rel) {
+  const fs::path path = dir_ / rel;
+  if (fs::is_directory(path)) return;
+  create_dirs(path);
+  if (options_.sync) sync_directory(path.parent_path());
+}
 
 std::string RecordingWriter::light_file(const std::shared_ptr<const Cubemap>& light) {
   std::lock_guard lock(light_mutex_);
@@ -133,7 +153,8 @@ std::string RecordingWriter::light_file(const std::shared_ptr<const Cubemap>& li
     if (known == light) return name;
   }
   const std::string name = "truth/light/" + frame_name(light_count_++, "pfm");
-  create_dirs(dir_ / "truth" / "light");
+  create_dir("truth");
+  create_dir("truth/light");
   write_light_cubemap(dir_ / name, *light);
   lights_.emplace_back(light, name);
   if (lights_.size() > kLightsRemembered) lights_.erase(lights_.begin());
@@ -144,38 +165,56 @@ std::string RecordingWriter::write_truth(Stream& stream, const char* trajectory_
                                          const char* depth_dir, const char* mask_dir,
                                          const std::string& name,
                                          const std::shared_ptr<const FrameTruth>& truth,
-                                         TimestampNs t) {
+                                         TimestampNs t, std::vector<std::string>& written) {
   if (!options_.write_truth || !truth) return "0,,,,0";
   std::string depth, mask, light;
   if (!truth->clean_depth.empty()) {
     depth = std::string(depth_dir) + "/" + name;
-    create_dirs(dir_ / depth_dir);
+    create_dir("truth");
+    create_dir(depth_dir);
     write_png(dir_ / depth, truth->clean_depth);
+    written.push_back(depth);
   }
   if (!truth->occluder_mask.empty()) {
     mask = std::string(mask_dir) + "/" + name;
-    create_dirs(dir_ / mask_dir);
+    create_dir("truth");
+    create_dir(mask_dir);
     write_png(dir_ / mask, truth->occluder_mask);
+    written.push_back(mask);
   }
-  if (truth->light) light = light_file(truth->light);
+  if (truth->light) {
+    light = light_file(truth->light);
+    written.push_back(light);
+  }
   if (truth->rig_pose) {
     if (!stream.trajectory.is_open()) {
-      stream.trajectory = open_for_append(dir_ / trajectory_name);
-      stream.trajectory << "# rig pose T_world_rig at each frame with truth_pose = 1\n"
-                        << kTumTrajectoryHeader;
+      stream.trajectory = AppendFile(dir_ / trajectory_name);
+      stream.trajectory.append(
+          std::string("# rig pose T_world_rig at each frame with truth_pose = 1\n") +
+          kTumTrajectoryHeader);
+      if (options_.sync) sync_directory(dir_);
     }
-    stream.trajectory << format_tum_pose(t, *truth->rig_pose) << std::flush;
-    if (!stream.trajectory) {
-      throw std::runtime_error((dir_ / trajectory_name).string() + ": write failed");
-    }
+    // Before the index line: a pose without its frame (the frame in flight) is ignored by
+    // readers of an incomplete recording, a frame without its pose cannot happen.
+    stream.trajectory.append(format_tum_pose(t, *truth->rig_pose));
   }
   return "1," + depth + "," + mask + "," + light + "," + (truth->rig_pose ? "1" : "0");
 }
 
-void RecordingWriter::write_index_line(Stream& stream, const std::string& line,
-                                       const char* index_name) {
-  stream.index << line << '\n' << std::flush;
-  if (!stream.index) throw std::runtime_error((dir_ / index_name).string() + ": write failed");
+void RecordingWriter::commit(Stream& stream, const std::vector<std::string>& written,
+                             const std::string& line) {
+  if (options_.sync) {
+    std::vector<fs::path> dirs;
+    for (const std::string& rel : written) {
+      sync_file(dir_ / rel);
+      const fs::path parent = (dir_ / rel).parent_path();
+      if (std::find(dirs.begin(), dirs.end(), parent) == dirs.end()) dirs.push_back(parent);
+    }
+    for (const fs::path& d : dirs) sync_directory(d);  // the renames from NAME.tmp
+    if (stream.trajectory.is_open()) stream.trajectory.sync();
+  }
+  stream.index.append(line + '\n');
+  if (options_.sync) stream.index.sync();
 }
 
 void RecordingWriter::append(const RgbdFrame& frame) {
@@ -183,14 +222,14 @@ void RecordingWriter::append(const RgbdFrame& frame) {
   if (finished_) throw std::logic_error("RecordingWriter: append after finish");
   const std::int64_t i = rgbd_.count.load();
   const std::string name = frame_name(i, "png");
-  write_png(dir_ / "rgb" / name, frame.colour);
-  write_png(dir_ / "depth" / name, frame.depth);
+  std::vector<std::string> written{"rgb/" + name, "depth/" + name};
+  write_png(dir_ / written[0], frame.colour);
+  write_png(dir_ / written[1], frame.depth);
   const std::string truth = write_truth(rgbd_, files::kRgbdTrajectory, "truth/depth", "truth/mask",
-                                        name, frame.truth, frame.timestamp_ns);
-  write_index_line(rgbd_,
-                   fmt::format("{},{},rgb/{},depth/{},{}", frame.sequence, frame.timestamp_ns, name,
-                               name, truth),
-                   files::kRgbdIndex);
+                                        name, frame.truth, frame.timestamp_ns, written);
+  commit(rgbd_, written,
+         fmt::format("{},{},rgb/{},depth/{},{}", frame.sequence, frame.timestamp_ns, name, name,
+                     truth));
   if (i == 0) rgbd_.first_ns = frame.timestamp_ns;
   rgbd_.last_ns = frame.timestamp_ns;
   rgbd_.count.store(i + 1);
@@ -201,17 +240,17 @@ void RecordingWriter::append(const FisheyeFrame& frame) {
   if (finished_) throw std::logic_error("RecordingWriter: append after finish");
   const std::int64_t i = fisheye_.count.load();
   const std::string name = frame_name(i, "png");
-  write_png(dir_ / "fisheye" / name, frame.raw);
+  std::vector<std::string> written{"fisheye/" + name};
+  write_png(dir_ / written[0], frame.raw);
   const std::string truth =
       write_truth(fisheye_, files::kFisheyeTrajectory, "truth/fisheye_depth", "truth/fisheye_mask",
-                  name, frame.truth, frame.timestamp_ns);
+                  name, frame.truth, frame.timestamp_ns, written);
   const ExposureStamp& e = frame.exposure;
-  write_index_line(fisheye_,
-                   fmt::format("{},{},fisheye/{},{},{},{},{},{},{},{},{}", frame.sequence,
-                               frame.timestamp_ns, name, frame.bit_depth, frame.black_level,
-                               format_double(e.exposure.time_s), format_double(e.exposure.gain_db),
-                               to_string(e.level), e.cycle_position, e.cycle, truth),
-                   files::kFisheyeIndex);
+  commit(fisheye_, written,
+         fmt::format("{},{},fisheye/{},{},{},{},{},{},{},{},{}", frame.sequence, frame.timestamp_ns,
+                     name, frame.bit_depth, frame.black_level, format_double(e.exposure.time_s),
+                     format_double(e.exposure.gain_db), to_string(e.level), e.cycle_position,
+                     e.cycle, truth));
   if (i == 0) fisheye_.first_ns = frame.timestamp_ns;
   fisheye_.last_ns = frame.timestamp_ns;
   fisheye_.count.store(i + 1);
@@ -222,30 +261,33 @@ void RecordingWriter::finish() {
   if (finished_) return;
   for (Stream* s : {&rgbd_, &fisheye_}) {
     s->index.close();
-    const bool had_trajectory = s->trajectory.is_open();
-    if (had_trajectory) s->trajectory.close();
-    if (!s->index || (had_trajectory && !s->trajectory)) {
-      throw std::runtime_error(dir_.string() + ": closing an index failed");
-    }
+    if (s->trajectory.is_open()) s->trajectory.close();
   }
+  write_manifest(true);
+  finished_ = true;
+}
+
+void RecordingWriter::write_manifest(bool complete) {
   std::string m;
-  m += "# probeless recording (docs/formats.md \"Recording format\"). Written last: a directory\n";
-  m += "# without this file holds an interrupted recording.\n";
-  m += fmt::format("format = {}\nversion = {}\n\n", toml_string(kRecordingFormatName),
-                   kRecordingFormatVersion);
+  m += "# probeless recording (docs/formats.md \"Recording format\"). complete = false: the\n";
+  m += "# recording is under way or was interrupted; its indexed frames are all there.\n";
+  m += fmt::format("format = {}\nversion = {}\ncomplete = {}\n\n",
+                   toml_string(kRecordingFormatName), kRecordingFormatVersion, complete);
   m += fmt::format("[created]\nutc = {}\nby = {}\nhost = {}\nsource = {}\n\n",
                    toml_string(utc_now()), toml_string(options_.created_by),
                    toml_string(host_name()), toml_string(options_.source));
-  for (const auto& [table, stream] : {std::pair{"rgbd", &rgbd_}, std::pair{"fisheye", &fisheye_}}) {
-    m += fmt::format("[{}]\nframes = {}\n", table, stream->count.load());
-    if (stream->count.load() > 0) {
-      m += fmt::format("first_timestamp_ns = {}\nlast_timestamp_ns = {}\n", stream->first_ns,
-                       stream->last_ns);
+  if (complete) {
+    for (const auto& [table, stream] :
+         {std::pair{"rgbd", &rgbd_}, std::pair{"fisheye", &fisheye_}}) {
+      m += fmt::format("[{}]\nframes = {}\n", table, stream->count.load());
+      if (stream->count.load() > 0) {
+        m += fmt::format("first_timestamp_ns = {}\nlast_timestamp_ns = {}\n", stream->first_ns,
+                         stream->last_ns);
+      }
+      m += "\n";
     }
-    m += "\n";
   }
-  write_text_file_atomically(dir_ / files::kManifest, m);
-  finished_ = true;
+  write_text_file_atomically(dir_ / files::kManifest, m, options_.sync);
 }
 
 }  // namespace probeless::replay

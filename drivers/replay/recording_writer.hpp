@@ -1,14 +1,15 @@
 #pragma once
-// Writes a recording (docs/formats.md "Recording format"). Frames are written as they are
-// appended, images first and then their index line (flushed), so a crash loses at most the
-// frame in flight; finish() writes manifest.toml last, and a directory without it is an
-// interrupted recording that Recording::open() refuses.
+// Writes a recording (docs/formats.md "Recording format", version 2). The constructor
+// writes calibration.toml, the index headers and then a manifest with `complete = false`;
+// each append() writes the frame's images, syncs them (options.sync) and only then appends
+// the frame's index line, so a recording killed or cut from power at any point opens with
+// every frame before the one in flight (Recording::open() salvages an incomplete one).
+// finish() rewrites the manifest with `complete = true` and the frame counts.
 //
 // The two streams may be appended from two threads (one each); finish() after both stopped.
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -17,6 +18,7 @@
 
 #include "core/calibration.hpp"
 #include "core/frame.hpp"
+#include "drivers/replay/durable_file.hpp"
 
 namespace probeless::replay {
 
@@ -27,6 +29,10 @@ struct RecordingWriterOptions {
   // Remove an existing recording in the directory first (only the files a recording has;
   // anything else there still makes the constructor refuse).
   bool overwrite = false;
+  // fsync each frame's files and directories, then its index line, before the next frame
+  // (docs/formats.md "Power loss"). false: a killed process still loses at most the frame
+  // in flight, but a power cut may lose what the kernel had not yet written back.
+  bool sync = true;
 };
 
 class RecordingWriter {
@@ -52,17 +58,22 @@ class RecordingWriter {
  private:
   struct Stream {
     std::mutex mutex;
-    std::ofstream index;
-    std::ofstream trajectory;  // opened at the first frame with a rig pose
+    AppendFile index;
+    AppendFile trajectory;  // opened at the first frame with a rig pose
     std::atomic<std::int64_t> count{0};
     TimestampNs first_ns = 0, last_ns = 0;
   };
   // Index fields for a frame's truth ("truth,truth_depth,truth_mask,truth_light,truth_pose").
   std::string write_truth(Stream& stream, const char* trajectory_name, const char* depth_dir,
                           const char* mask_dir, const std::string& name,
-                          const std::shared_ptr<const FrameTruth>& truth, TimestampNs t);
+                          const std::shared_ptr<const FrameTruth>& truth, TimestampNs t,
+                          std::vector<std::string>& written);
   std::string light_file(const std::shared_ptr<const Cubemap>& light);
-  void write_index_line(Stream& stream, const std::string& line, const char* index_name);
+  // Creates a directory of the recording (and syncs its parent when it is new).
+  void create_dir(const std::filesystem::path& rel);
+  // Syncs the frame's files and their directories, then appends and syncs its index line.
+  void commit(Stream& stream, const std::vector<std::string>& files, const std::string& line);
+  void write_manifest(bool complete);
 
   std::filesystem::path dir_;
   RecordingWriterOptions options_;

@@ -64,8 +64,8 @@ std::int64_t parse_int_in(std::string_view text, std::int64_t lo, std::int64_t h
                           const TextLocation& where, std::string_view what) {
   const std::int64_t v = parse_int64(text, where, what);
   if (v < lo || v > hi) {
-    where.fail(std::string(what) + " " + std::to_string(v) + " is outside [" +
-               std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    where.fail(std::string(what) + " " + std::to_string(v) + " is outside [" + std::to_string(lo) +
+               ", " + std::to_string(hi) + "]");
   }
   return v;
 }
@@ -91,19 +91,22 @@ TimestampNs parse_seconds(std::string_view text, const TextLocation& where) {
   if (negative) rest.remove_prefix(1);
   const std::size_t dot = rest.find('.');
   const std::string_view whole = rest.substr(0, dot);
-  std::string_view decimals = dot == std::string_view::npos ? std::string_view{} : rest.substr(dot + 1);
+  std::string_view decimals =
+      dot == std::string_view::npos ? std::string_view{} : rest.substr(dot + 1);
   if (whole.empty() && decimals.empty()) bad();
   for (char c : whole)
     if (c < '0' || c > '9') bad();
   for (char c : decimals)
     if (c < '0' || c > '9') bad();
 
-  constexpr std::uint64_t kMaxSeconds = std::numeric_limits<std::int64_t>::max() / 1'000'000'000 - 1;
+  constexpr std::uint64_t kMaxSeconds =
+      std::numeric_limits<std::int64_t>::max() / 1'000'000'000 - 1;
   std::uint64_t seconds = 0;
   if (!whole.empty()) {
     const auto [ptr, ec] = std::from_chars(whole.data(), whole.data() + whole.size(), seconds);
     (void)ptr;
-    if (ec != std::errc{} || seconds > kMaxSeconds) where.fail("timestamp " + quoted(text) + " is out of range");
+    if (ec != std::errc{} || seconds > kMaxSeconds)
+      where.fail("timestamp " + quoted(text) + " is out of range");
   }
   std::uint64_t nanos = 0;
   for (std::size_t i = 0; i < 9; ++i) {
@@ -140,12 +143,14 @@ std::vector<std::string_view> split_whitespace(std::string_view line) {
   return fields;
 }
 
-std::vector<std::string> read_text_lines(const std::filesystem::path& path) {
+std::vector<std::string> read_text_lines(const std::filesystem::path& path,
+                                         bool complete_lines_only) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ParseError(path.string(), 0, "cannot open for reading");
   std::vector<std::string> lines;
   std::string line;
   while (std::getline(in, line)) {
+    if (in.eof() && complete_lines_only) break;  // no "\n" after it
     if (!line.empty() && line.back() == '\r') line.pop_back();
     lines.push_back(std::move(line));
   }

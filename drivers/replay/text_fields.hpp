@@ -24,8 +24,7 @@ struct TextLocation {
 std::string format_double(double value);  // shortest round-trip form
 double parse_double(std::string_view text, const TextLocation& where, std::string_view what);
 std::int64_t parse_int64(std::string_view text, const TextLocation& where, std::string_view what);
-std::uint64_t parse_uint64(std::string_view text, const TextLocation& where,
-                           std::string_view what);
+std::uint64_t parse_uint64(std::string_view text, const TextLocation& where, std::string_view what);
 // Within [lo, hi]; otherwise a ParseError naming `what` and the range.
 std::int64_t parse_int_in(std::string_view text, std::int64_t lo, std::int64_t hi,
                           const TextLocation& where, std::string_view what);
@@ -42,7 +41,9 @@ std::vector<std::string_view> split_fields(std::string_view line, char separator
 std::vector<std::string_view> split_whitespace(std::string_view line);
 
 // A whole text file as lines (without "\n" or a trailing "\r"). Throws ParseError (line 0)
-// when the file cannot be read.
-std::vector<std::string> read_text_lines(const std::filesystem::path& path);
+// when the file cannot be read. `complete_lines_only`: a last line without its "\n" (a
+// write cut short by a crash) is left out.
+std::vector<std::string> read_text_lines(const std::filesystem::path& path,
+                                         bool complete_lines_only = false);
 
 }  // namespace probeless::replay

@@ -4,8 +4,9 @@
 
 namespace probeless::replay {
 
-std::vector<TumPoseLine> read_tum_trajectory(const std::filesystem::path& path) {
-  const std::vector<std::string> lines = read_text_lines(path);
+std::vector<TumPoseLine> read_tum_trajectory(const std::filesystem::path& path,
+                                             bool complete_lines_only) {
+  const std::vector<std::string> lines = read_text_lines(path, complete_lines_only);
   std::vector<TumPoseLine> poses;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const TextLocation where{path.string(), static_cast<int>(i + 1)};
@@ -18,7 +19,8 @@ std::vector<TumPoseLine> read_tum_trajectory(const std::filesystem::path& path) 
     TumPoseLine p;
     p.line = where.line;
     p.timestamp_ns = parse_seconds(fields[0], where);
-    p.pose.translation = {parse_double(fields[1], where, "tx"), parse_double(fields[2], where, "ty"),
+    p.pose.translation = {parse_double(fields[1], where, "tx"),
+                          parse_double(fields[2], where, "ty"),
                           parse_double(fields[3], where, "tz")};
     const double qx = parse_double(fields[4], where, "qx");
     const double qy = parse_double(fields[5], where, "qy");

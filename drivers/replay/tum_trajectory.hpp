@@ -18,7 +18,9 @@ struct TumPoseLine {
 
 // Values exactly as written (a quaternion is not normalised: recordings replay it bit for
 // bit). Throws ParseError naming the file and line for a malformed line.
-std::vector<TumPoseLine> read_tum_trajectory(const std::filesystem::path& path);
+// `complete_lines_only`: a last line without its "\n" is left out (an interrupted recording).
+std::vector<TumPoseLine> read_tum_trajectory(const std::filesystem::path& path,
+                                             bool complete_lines_only = false);
 
 // One line (with '\n'), numbers in shortest round-trip form, timestamp with 9 decimals.
 std::string format_tum_pose(TimestampNs timestamp_ns, const Pose& pose);

@@ -213,6 +213,15 @@ put("recording", "no_fisheye", SEP.join([MANIFEST.replace("frames = 1", "frames 
 put("recording", "count_mismatch", SEP.join([MANIFEST.replace("frames = 2", "frames = 3"), SMALL_CALIB,
                                              RGBD, FISHEYE, GT, FGT]))
 put("recording", "missing_manifest", "")
+# Version 2 (docs/formats.md "Power loss"): complete, and interrupted (manifest without
+# counts, the last index and trajectory lines cut short, a pose past the last indexed frame).
+MANIFEST_V2 = MANIFEST.replace("version = 1\n", "version = 2\ncomplete = true\n")
+put("recording", "v2_complete", SEP.join([MANIFEST_V2, SMALL_CALIB, RGBD, FISHEYE, GT, FGT]))
+MANIFEST_V2_OPEN = MANIFEST_V2.replace("complete = true", "complete = false").split("[rgbd]")[0]
+put("recording", "v2_interrupted",
+    SEP.join([MANIFEST_V2_OPEN, SMALL_CALIB, RGBD + "102,50400001",
+              FISHEYE.replace(",0,0,0,3,", ",low,0,3,") + "8,5018",
+              GT + "5.040000123 0.1 0.2 0.3 0 0 0 1\n5.06", FGT]))
 put("recording", "bad_row", SEP.join([MANIFEST, SMALL_CALIB,
                                       RGBD + "102,-1,../c0.png,d0.png,2,,,,0\n", FISHEYE, GT, FGT]))
 

@@ -1,6 +1,8 @@
 #!/bin/sh
 # Runs every libFuzzer target of the `fuzz` preset for SECONDS each (`make fuzz`,
-# docs/security.md "Fuzzing"). Usage: run_fuzz.sh BUILD_DIR SECONDS [TARGET...]
+# docs/fuzzing.md). Usage: run_fuzz.sh BUILD_DIR SECONDS [TARGET...]
+# FUZZ_RUNS=N in the environment: stop a target after N inputs instead, if that comes first
+# (issue #20's bar is 1,000,000 per target).
 # Each target starts from its seeds (tests/fuzz/corpus/<name>/) and what earlier runs found
 # (BUILD_DIR/corpus/<name>/, kept between runs, never in the repository). A crash, leak,
 # sanitizer report, timeout or out-of-memory leaves its input in BUILD_DIR/crashes/<name>/;
@@ -30,10 +32,19 @@ while read -r name max_len; do
   # -rss_limit_mb, -malloc_limit_mb: a reader that holds 1.5 GB, or asks for 512 MB at once,
   # for such an input lacks a size check (ASan's own overhead is ~150-300 MB here).
   if "$build/tests/fuzz/${name}_fuzz" -max_total_time="$seconds" -max_len="$max_len" \
+      ${FUZZ_RUNS:+-runs="$FUZZ_RUNS"} \
       -timeout=10 -rss_limit_mb=1536 -malloc_limit_mb=512 -print_final_stats=1 \
       -artifact_prefix="$crashes/" "$corpus" "$source_dir/corpus/$name" >"$log" 2>&1; then
-    grep -E '^stat::number_of_executed_units|^stat::new_units_added' "$log" | tr '\n' ' '
-    echo
+    # One line per target for docs/fuzzing.md: inputs run, their rate, the coverage
+    # (edges, features) and corpus size of the last status line, and the peak memory.
+    execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+    rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log")
+    rss=$(sed -n 's/^stat::peak_rss_mb: *//p' "$log")
+    last=$(grep -E '^#[0-9]+' "$log" | tail -1)
+    cov=$(echo "$last" | sed -n 's/.* cov: \([0-9]*\).*/\1/p')
+    ft=$(echo "$last" | sed -n 's/.* ft: \([0-9]*\).*/\1/p')
+    corp=$(echo "$last" | sed -n 's/.* corp: \([0-9]*\/[0-9a-zA-Z]*\).*/\1/p')
+    echo "RESULT $name execs=$execs exec_per_s=$rate cov=$cov ft=$ft corpus=$corp peak_rss_mb=$rss"
   else
     echo "FAILED: $name (log $log, input in $crashes/)"
     grep -E 'ERROR|SUMMARY|runtime error|Test unit written' "$log" | head -5

@@ -243,6 +243,7 @@ TEST(Service, HungPipelineStopsTheWatchdog) {
   EXPECT_TRUE(silent) << "the beats went on although the pipeline hung";
   const nlohmann::json s = get_status(port);
   EXPECT_EQ(s["frames"]["processed"], 60) << s.dump();
+  EXPECT_EQ(s["watchdog"]["stale"], nlohmann::json::array({"processing"})) << s.dump();
   EXPECT_FALSE(proc->wait(0s).has_value()) << "the process must live on for systemd to kill";
   proc->send_signal(SIGTERM);
   const auto code = proc->wait(10s);
