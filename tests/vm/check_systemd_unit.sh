@@ -38,8 +38,10 @@ if [[ ${1:-} == --in-guest ]]; then
     } >/etc/probeless/probeless.toml
   }
   config
+  # The unit's CacheDirectory: PoCL's kernels and the scene's PRT bake, made on the host.
   mkdir -p /var/cache/probeless
   cp -r "$warm" /var/cache/probeless/pocl
+  cp -r "$warm/xdg/probeless/prt" /var/cache/probeless/prt
   systemctl daemon-reload
 
   # 1. READY with the sandbox on.

@@ -6,10 +6,12 @@
 # the guest can run, at native speed. A cold compile of the pipeline's kernels in the guest
 # took over 4 minutes (2026-11-26, a loaded 2-core host); this takes ~20 s once, then the
 # marker file keeps it. The runs cover the RGB-D side at the VM rig's 320x240 (OpenNI2's
-# Dummy device) and the light stages (the sim's rig).
+# Dummy device) and the light stages (the sim's rig), with the shipped config's scene: its
+# PRT bake (XDG_CACHE_HOME/probeless/prt) took 107 s under TCG and is cached here too.
 # Usage: warm_pocl_cache.sh PROBELESS_BINARY CACHE_DIR
 set -euo pipefail
 binary=$1 cache=$2
+config=$(cd "$(dirname "$0")/../.." && pwd)/systemd/probeless.toml
 marker=$cache/.warm-$(stat -c %Y "$binary")
 [[ -f $marker ]] && exit 0
 mkdir -p "$cache"
@@ -18,7 +20,7 @@ start=$(date +%s)
 # Dummy device may stall on a busy host, and the frames themselves do not matter here.
 for source in "openni2:Dummy?size=320x240&hotplug=0" "sim:realtime=0"; do
   POCL_KERNELLIB_NAME=avx2 POCL_CACHE_DIR=$cache XDG_CACHE_HOME=$cache/xdg \
-    nice "$binary" run --port 0 --source "$source" >"$cache/warm.log" 2>&1 &
+    nice "$binary" run --config "$config" --port 0 --source "$source" >"$cache/warm.log" 2>&1 &
   pid=$!
   for _ in $(seq 1 600); do
     grep -q "first frame out" "$cache/warm.log" && break
