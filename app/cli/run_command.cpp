@@ -77,6 +77,10 @@ void run(const RunArgs& args) {
       notifier.ready();
       spdlog::info("first frame out: ready");
     }
+    // systemd arms WatchdogSec= when the process starts, not at READY=1: until the first
+    // frame the beat comes from here (TimeoutStartSec bounds the start). Without it the unit
+    // was killed 5 s into a start that compiles the OpenCL programs (vm_systemd_unit).
+    if (!ready) notifier.watchdog();
     if (signals.wait_for(std::chrono::milliseconds(ready ? 1000 : 0))) break;
     if (ready) notifier.status(status_line(pipeline.status()));
   }

@@ -8,10 +8,11 @@
 # and one of another colour size (both sizes named).
 # PoCL's kernel cache is filled on the host first (POCL_KERNELLIB_NAME=avx2: the kernel
 # library and LLVM CPU, "haswell", that PoCL picks in the TCG guest, so the guest hits the
-# cache; a cold compile under TCG took over 4 minutes on a loaded host). The test board turns
-# the light stage off: its kernels cannot be warmed on the host (no fisheye device there) and
-# under TCG it starved the processing thread (no frame out in 6 minutes, 2026-11-26); with it
-# off the first frame is out ~30 s after start. The fisheye still streams (frames.fisheye_in).
+# cache; a cold compile under TCG took over 4 minutes on a loaded host), with the PRT bake of
+# the shipped scene (107 s under TCG) and Mesa's shader cache. The test board turns the light
+# stage off to keep the guest's two emulated cores for what is under test: the first run
+# with it on had no frame out within 6 minutes (2026-11-26), most of it the then uncached
+# bake; light on was not measured again. The fisheye still streams (frames.fisheye_in).
 # Usage: check_board_run.sh SOURCE_DIR PROBELESS_BINARY CACHE_DIR
 #        check_board_run.sh --in-guest SOURCE_DIR PROBELESS_BINARY POCL_CACHE   (in the VM)
 set -euo pipefail

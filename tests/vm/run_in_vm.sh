@@ -89,7 +89,6 @@ append=${PROBELESS_VM_APPEND:-quiet loglevel=3}
 if ((boot_systemd)); then
   [[ -x /lib/systemd/systemd ]] || skip "no /lib/systemd/systemd to boot"
   touch "$root/boot_systemd"
-  append+=" systemd.unit=probeless-vm-command.service systemd.show_status=0"
 fi
 # The guest's /tmp is a fresh tmpfs (the host's is read-only over 9p). A checkout or build under
 # the host's /tmp (the working directory, this script's tree, a path in the command) is
@@ -143,7 +142,9 @@ if [ -f /boot_systemd ]; then
   printf '[Unit]\nDescription=the VM harness command\n[Service]\nType=oneshot\nExecStart=/etc/probeless-vm/command.sh\nStandardOutput=tty\nStandardError=tty\nTTYPath=/dev/ttyS0\n' \
     >/host/etc/systemd/system/probeless-vm-command.service
   umount /host/proc /host/sys /host/dev
-  exec switch_root /host /lib/systemd/systemd
+  # The unit on systemd's own command line: it ignored systemd.unit= on the kernel's here.
+  exec switch_root /host /lib/systemd/systemd --unit=probeless-vm-command.service \
+    --show-status=0
 fi
 chroot /host /bin/sh -c "cd '$(cat /workdir)' && exec $cmd"
 echo "PROBELESS_VM_EXIT=$?"
