@@ -75,6 +75,8 @@ CompositeFrame FrameProcessor::camera_only(const RgbdFrame& frame) const {
 
 CompositeFrame FrameProcessor::process(const RgbdFrame& frame, StageStats& stats) {
   const auto frame_start = std::chrono::steady_clock::now();
+  // Before tracking, whose own check names neither size (vm_board_run, issue #18).
+  upload_.check_size(frame);
   const std::optional<Pose> T_world_rig = localiser_.locate(frame);
   stats.record("tracking", ms_since(frame_start));
   if (poses_) {

@@ -128,7 +128,7 @@ BOARD
   out=$(timeout 200 "$binary" run --board vmrig --config "$src/systemd/probeless.toml" 2>&1) &&
     code=0 || code=$?
   echo "VM: 640x480 calibration: exit $code: $(grep -m1 'calibration' <<<"$out")"
-  ((code == 1)) || echo "$out" | tail -20
+  grep -q "calibration's colour camera" <<<"$out" || echo "$out" | tail -20
   check "a calibration of another size stops the service" test "$code" = 1
   check "... naming both sizes" grep -q "320 x 240, but the calibration's colour camera is 640 x 480" <<<"$out"
   echo "board run: $passed passed, $failed failed"
