@@ -10,7 +10,8 @@ install(TARGETS probeless RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR} COMPONENT 
 # app/cli/lab_dispatch.cpp finds it at ../lib/probeless/ from the appliance binary.
 install(TARGETS probeless-lab RUNTIME DESTINATION lib/probeless COMPONENT lab)
 # Debian 12 has merged /usr: systemd reads units, sysusers, tmpfiles and udev rules here.
-install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.service DESTINATION lib/systemd/system)
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.service ${PROJECT_SOURCE_DIR}/systemd/probeless.socket
+  DESTINATION lib/systemd/system)
 install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.sysusers DESTINATION lib/sysusers.d
         RENAME probeless.conf)
 install(FILES ${PROJECT_SOURCE_DIR}/systemd/probeless.tmpfiles DESTINATION lib/tmpfiles.d

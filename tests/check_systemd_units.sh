@@ -17,7 +17,12 @@ trap 'rm -rf "$scratch"' EXIT
 # verify needs ExecStart's binary to exist: point it at the build's.
 sed "s|^ExecStart=/usr/bin/probeless|ExecStart=$binary|" "$src/probeless.service" \
   >"$scratch/probeless.service"
-systemd-analyze verify --man=no "$scratch/probeless.service"
+cp "$src/probeless.socket" "$scratch/"
+systemd-analyze verify --man=no "$scratch/probeless.service" "$scratch/probeless.socket"
+# The limits of issue #20, each justified in the unit and docs/appliance.md "Limits".
+for key in StartLimitIntervalSec StartLimitBurst LimitNOFILE MemoryMax TasksMax; do
+  grep -q "^$key=" "$src/probeless.service" || { echo "FAIL: no $key= in probeless.service"; exit 1; }
+done
 
 report=$(systemd-analyze security --offline=true --no-pager "$scratch/probeless.service")
 exposure=$(sed -n 's/.*Overall exposure level for probeless.service: \([0-9.]*\).*/\1/p' <<<"$report")

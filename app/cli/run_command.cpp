@@ -7,6 +7,7 @@
 #include "app/cli/commands.hpp"
 #include "app/pipeline/pipeline.hpp"
 #include "app/service/signals.hpp"
+#include "app/service/socket_activation.hpp"
 #include "app/service/systemd_notifier.hpp"
 #include "drivers/rig_factory.hpp"
 
@@ -57,6 +58,16 @@ void run(const RunArgs& args) {
   if (args.port >= 0) config.http.port = args.port;
   if (args.frames > 0) config.max_frames = args.frames;
   if (args.matte) config.files.write_matte = true;
+  // Under probeless.socket systemd has bound the port: that socket wins over [http] and
+  // --address/--port (docs/appliance.md "Socket activation").
+  if (const int fd = http_socket_from_systemd(); fd >= 0) {
+    config.http.enabled = true;
+    config.http.listen_fd = fd;
+    if (auto address = bound_address(fd); !address.empty()) config.http.address = address;
+    spdlog::info(
+        "HTTP: serving the socket systemd passed (probeless.socket); [http] address "
+        "and port are not used");
+  }
 
   ShutdownSignals signals;  // SIGTERM/SIGINT only wake the loop below (app/service/signals.hpp)
   SystemdNotifier notifier;
@@ -83,6 +94,10 @@ void run(const RunArgs& args) {
       notifier.ready();
       spdlog::info("first frame out: ready");
     }
+    // systemd arms WatchdogSec= when the process starts, not at READY=1 (the unit was killed
+    // 5 s into a start that compiles the OpenCL programs: vm_systemd_unit). The pipeline's
+    // ServiceWatchdog beats from the start for the threads already watched; processing and
+    // light join at their first frame; TimeoutStartSec bounds the start.
     if (signals.wait_for(std::chrono::milliseconds(ready ? 1000 : 0))) break;
     if (ready) notifier.status(status_line(pipeline.status()));
   }

@@ -10,7 +10,16 @@
 // stays bounded whatever the disk does. Files appear whole or not at all (written to .tmp,
 // then renamed). As a pipeline Output (app/outputs/output.hpp) it writes every frame but the
 // NO SIGNAL repeats, numbered in the order offered.
+//
+// The directory is checked at construction: one that cannot be made or written to (outside
+// the unit's StateDirectory under ProtectSystem=strict) is a FileOutputError naming it and
+// the fix, so the service stops at start rather than failing frame by frame. Caps bound what
+// the directory holds (`[output] max_mb`, `keep_minutes`, `when_full`): the image files of
+// this output (frame_*, matte_*, those of earlier runs too) are removed oldest first, or with
+// stop_when_full writing stops and /status says why. frames.txt is not capped (~30 bytes a
+// frame, 3 MB a day at 30 Hz) and keeps the lines of removed files.
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -19,10 +28,12 @@
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <thread>
 #include <variant>
+#include <vector>
 
 #include "app/outputs/jpeg_encoder.hpp"
 #include "app/outputs/output.hpp"
@@ -43,6 +54,16 @@ struct FileOutputConfig {
   int jpeg_quality = 90;  // files are kept: better than the stream's 80, still ~1/10 of PNG
   bool write_matte = false;
   std::size_t queue_capacity = 2;  // frames waiting for the writer; more only adds latency
+  // 0: no cap. At 640x480 JPEG q90 the service writes ~4.6 GB an hour (issue #20).
+  std::uint64_t max_bytes = 0;
+  std::chrono::minutes max_age{0};  // files older than this are removed; 0: kept
+  bool stop_when_full = false;      // at max_bytes: stop writing instead of removing
+};
+
+// The directory cannot be made or written to.
+class FileOutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 struct FileOutputFrame {
@@ -60,6 +81,10 @@ struct FileOutputStats {
   std::uint64_t written = 0;
   std::uint64_t dropped = 0;  // replaced in the queue before the writer got to them
   std::uint64_t failed = 0;   // write errors (disk full, permissions)
+  std::uint64_t removed = 0;  // files removed by the caps
+  std::uint64_t bytes = 0;    // what this output's files in the directory hold now
+  std::uint64_t files = 0;
+  bool full = false;  // stop_when_full and max_bytes reached: nothing more is written
   std::string last_error;
 };
 
@@ -90,8 +115,18 @@ class FileOutput final : public Output {
   void add_status(nlohmann::json& status) const override;
 
  private:
+  struct Kept {
+    std::filesystem::path path;
+    std::uint64_t bytes = 0;
+    std::filesystem::file_time_type written;
+  };
   void run();
   void write(const FileOutputFrame& frame);
+  void adopt_existing_files();
+  // Records the files just written and applies the caps; the writer thread (and the
+  // constructor) only. Returns false when stop_when_full refused the frame.
+  bool keep(const std::vector<std::filesystem::path>& written);
+  void remove_oldest();
 
   FileOutputConfig config_;
   mutable std::mutex mutex_;
@@ -102,6 +137,7 @@ class FileOutput final : public Output {
   std::atomic<std::uint64_t> next_index_{0};  // offer()'s numbering
   JpegEncoder encoder_;       // writer thread only (constructed here to check the quality)
   std::ofstream index_file_;  // frames.txt; writer thread only
+  std::deque<Kept> kept_;     // this output's files, oldest first; writer thread only
   std::thread writer_;
 };
 

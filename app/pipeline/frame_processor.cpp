@@ -82,6 +82,8 @@ CompositeFrame FrameProcessor::process(const RgbdFrame& frame, StageStats& stats
 FrameProcessor::Located FrameProcessor::locate(const RgbdFrame& frame, StageStats& stats) {
   Located located;
   located.started = std::chrono::steady_clock::now();
+  // Before tracking, whose own check names neither size (vm_board_run, issue #18).
+  upload_.check_size(frame);
   located.T_world_rig = localiser_.locate(frame);
   stats.record("tracking", ms_since(located.started));
   located.status = localiser_.status();

@@ -62,10 +62,14 @@ void check_size(const char* what, int w, int h, int want_w, int want_h) {
 
 }  // namespace
 
+void UploadStage::check_size(const RgbdFrame& frame) const {
+  probeless::check_size("colour", frame.colour.width(), frame.colour.height(), width_, height_);
+  probeless::check_size("depth", frame.depth.width(), frame.depth.height(), width_, height_);
+}
+
 DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& layer) {
   auto& q = ctx_.queue();
-  check_size("colour", frame.colour.width(), frame.colour.height(), width_, height_);
-  check_size("depth", frame.depth.width(), frame.depth.height(), width_, height_);
+  check_size(frame);
   if (undistort_) {
     raw_colour_.upload(q, frame.colour, false);
     raw_depth_.upload(q, frame.depth, false);

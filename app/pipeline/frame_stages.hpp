@@ -109,6 +109,8 @@ class UploadStage {
   // whose colour or depth is not the calibration's colour camera size is an
   // std::invalid_argument naming both.
   DeviceFrame process(const RgbdFrame& frame, const VirtualLayer& layer);
+  // The same size check alone, for stages that run before the upload (tracking).
+  void check_size(const RgbdFrame& frame) const;
   bool undistorts() const { return undistort_.has_value(); }
 
  private:

@@ -244,14 +244,29 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
       r.fail(t->get("encoder"), "encoder must be \"auto\", \"v4l2h264enc\" or \"x264enc\"");
   }
   if (auto* t = r.optional_table(root, "output")) {
-    r.only(*t, "[output]", {"dir", "format", "matte"});
+    r.only(*t, "[output]", {"dir", "format", "matte", "max_mb", "keep_minutes", "when_full"});
     std::string dir = c.files.dir.string();
     std::string format = c.files.format == ImageFileFormat::Png ? "png" : "jpeg";
+    std::string when_full = c.files.stop_when_full ? "stop" : "remove-oldest";
+    int max_mb = static_cast<int>(c.files.max_bytes / 1'000'000);
+    int keep_minutes = static_cast<int>(c.files.max_age.count());
     r.get(*t, "dir", dir);
     r.get(*t, "format", format);
     r.get(*t, "matte", c.files.write_matte);
+    r.get(*t, "max_mb", max_mb);
+    r.get(*t, "keep_minutes", keep_minutes);
+    r.get(*t, "when_full", when_full);
     if (format != "jpeg" && format != "png")
       r.fail(t->get("format"), "format must be \"jpeg\" or \"png\"");
+    if (max_mb < 0) r.fail(t->get("max_mb"), "max_mb must be >= 0 (0: no size cap)");
+    // A year: a longer age cap is no cap, and minutes past it overflow file times.
+    if (keep_minutes < 0 || keep_minutes > 525'600)
+      r.fail(t->get("keep_minutes"), "keep_minutes must be in 0..525600 (0: no age cap)");
+    if (when_full != "remove-oldest" && when_full != "stop")
+      r.fail(t->get("when_full"), "when_full must be \"remove-oldest\" or \"stop\"");
+    c.files.max_bytes = static_cast<std::uint64_t>(max_mb) * 1'000'000;
+    c.files.max_age = std::chrono::minutes(keep_minutes);
+    c.files.stop_when_full = when_full == "stop";
     c.files.dir = dir;
     c.files.format = parse_image_file_format(format);
   }

@@ -10,16 +10,20 @@
 #   -w DIR     working directory of the command inside the guest (default: the current one)
 #   -d DEVICE  an extra QEMU device (`-device DEVICE`), e.g. virtio-gpu-pci; repeatable. Its
 #              driver is the command's to load (modprobe finds the host's modules).
+#   -s         boot the host's systemd as PID 1 (switch_root into the 9p root, /etc and /var
+#              writable copies in tmpfs) and run the command as a oneshot unit after
+#              basic.target, for tests of the systemd units (check_systemd_unit.sh)
 # Exits with the command's status, 77 when the VM cannot run here (the reason on stdout),
 # 124 when the VM timed out. PROBELESS_VM_KERNEL picks another /boot/vmlinuz-*.
 # PROBELESS_VM_QEMU_ARGS adds QEMU arguments (split on spaces), e.g. an emulated USB
 # controller and a monitor for hot-adding devices (check_usb_hotplug.sh).
 set -euo pipefail
 
-timeout_s=300 mem=768M workdir=$PWD devices=()
-while getopts "t:m:w:d:" opt; do
+timeout_s=300 mem=768M workdir=$PWD devices=() boot_systemd=0
+while getopts "t:m:w:d:s" opt; do
   case $opt in
     t) timeout_s=$OPTARG ;; m) mem=$OPTARG ;; w) workdir=$OPTARG ;; d) devices+=(-device "$OPTARG") ;;
+    s) boot_systemd=1 ;;
     *) echo "usage: $0 [-t S] [-m MEM] [-w DIR] [-d DEVICE]... -- COMMAND..." >&2; exit 2 ;;
   esac
 done
@@ -81,6 +85,11 @@ done
 ((${#sanitizer_env[@]} > 0)) && set -- env "${sanitizer_env[@]}" "$@"
 printf '%q ' "$@" >"$root/command"
 printf '%s' "$workdir" >"$root/workdir"
+append=${PROBELESS_VM_APPEND:-quiet loglevel=3}
+if ((boot_systemd)); then
+  [[ -x /lib/systemd/systemd ]] || skip "no /lib/systemd/systemd to boot"
+  touch "$root/boot_systemd"
+fi
 # The guest's /tmp is a fresh tmpfs (the host's is read-only over 9p). A checkout or build under
 # the host's /tmp (the working directory, this script's tree, a path in the command) is
 # bound back into it: one line per top-level entry of /tmp to keep.
@@ -119,6 +128,24 @@ while IFS= read -r d; do
 done </keep_tmp
 mount -t tmpfs run /host/run
 cmd=$(cat /command)
+if [ -f /boot_systemd ]; then
+  # systemd wants a writable /etc (machine-id, the units the test installs) and /var.
+  mkdir /etc.rw
+  mount -t tmpfs etc /etc.rw
+  cp -a /host/etc/. /etc.rw/
+  mount --move /etc.rw /host/etc
+  mount -t tmpfs var /host/var
+  mkdir -p /host/var/lib /host/var/cache /host/var/log /host/var/tmp /host/etc/probeless-vm
+  printf '#!/bin/sh\ncd %s && %s\necho "PROBELESS_VM_EXIT=$?" >/dev/ttyS0\nsystemctl --force --force poweroff\n' \
+    "'$(cat /workdir)'" "$cmd" >/host/etc/probeless-vm/command.sh
+  chmod +x /host/etc/probeless-vm/command.sh
+  printf '[Unit]\nDescription=the VM harness command\n[Service]\nType=oneshot\nExecStart=/etc/probeless-vm/command.sh\nStandardOutput=tty\nStandardError=tty\nTTYPath=/dev/ttyS0\n' \
+    >/host/etc/systemd/system/probeless-vm-command.service
+  umount /host/proc /host/sys /host/dev
+  # The unit on systemd's own command line: it ignored systemd.unit= on the kernel's here.
+  exec switch_root /host /lib/systemd/systemd --unit=probeless-vm-command.service \
+    --show-status=0
+fi
 chroot /host /bin/sh -c "cd '$(cat /workdir)' && exec $cmd"
 echo "PROBELESS_VM_EXIT=$?"
 poweroff -f
@@ -134,7 +161,7 @@ set +e
 timeout --foreground "$timeout_s" "$qemu" -accel tcg -cpu max -smp 2 -m "$mem" -nodefaults \
   -display none -no-reboot -serial stdio -monitor none \
   -kernel "$kernel" -initrd "$scratch/initramfs.cpio.gz" \
-  -append "console=ttyS0 ${PROBELESS_VM_APPEND:-quiet loglevel=3} panic=-1 rdinit=/init" \
+  -append "console=ttyS0 $append panic=-1 rdinit=/init" \
   -virtfs local,path=/,mount_tag=host,security_model=none,readonly=on,multidevs=remap \
   "${devices[@]}" ${PROBELESS_VM_QEMU_ARGS:-} </dev/null | tee "$log"
 qemu_status=${PIPESTATUS[0]}

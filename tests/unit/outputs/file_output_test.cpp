@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "app/outputs/jpeg_encoder.hpp"
 #include "drivers/io/png.hpp"
@@ -122,6 +123,126 @@ TEST(FileOutput, CountsWriteErrorsAndCarriesOn) {
   again.submit(frame(2));
   again.stop();
   EXPECT_EQ(again.stats().written, 1u);
+}
+
+// Writes frames one at a time, waiting for each, so nothing is dropped.
+void write_frames(FileOutput& out, std::uint64_t first, std::uint64_t count) {
+  for (std::uint64_t i = first; i < first + count; ++i) {
+    const auto before = out.stats();
+    out.submit(frame(i, 160, 120));
+    for (int t = 0; t < 1000; ++t) {
+      const auto s = out.stats();
+      if (s.written + s.failed > before.written + before.failed || s.full) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  }
+}
+
+std::uint64_t images_in(const std::filesystem::path& dir, std::uint64_t* bytes = nullptr) {
+  std::uint64_t n = 0, total = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    if (e.path().filename().string().starts_with("frame_")) ++n, total += e.file_size();
+  }
+  if (bytes) *bytes = total;
+  return n;
+}
+
+// The size cap removes the oldest files (issue #20): the directory stays under max_bytes
+// and the newest frame is there.
+TEST(FileOutput, SizeCapRemovesTheOldestFiles) {
+  const auto dir = testing::scratch_dir() / "capped";
+  FileOutput probe({.dir = testing::scratch_dir() / "probe"});
+  write_frames(probe, 0, 1);
+  probe.stop();
+  const std::uint64_t one = probe.stats().bytes;
+  ASSERT_GT(one, 0u);
+  // Room for about four frames.
+  FileOutput out({.dir = dir, .max_bytes = one * 4 + one / 2});
+  write_frames(out, 1, 12);
+  out.stop();
+  const auto s = out.stats();
+  EXPECT_EQ(s.written, 12u);
+  EXPECT_FALSE(s.full);
+  std::uint64_t bytes = 0;
+  const std::uint64_t files = images_in(dir, &bytes);
+  EXPECT_LE(bytes, one * 4 + one / 2);
+  EXPECT_GE(files, 3u);
+  EXPECT_LE(files, 5u);
+  EXPECT_EQ(s.files, files);
+  EXPECT_EQ(s.bytes, bytes);
+  EXPECT_EQ(s.removed, 12u - files);
+  EXPECT_TRUE(std::filesystem::exists(dir / "frame_000012.jpg"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "frame_000001.jpg"));
+}
+
+// With when_full = "stop" writing stops at the cap and the status says why.
+TEST(FileOutput, SizeCapCanStopTheRecordingWithAClearStatus) {
+  const auto dir = testing::scratch_dir() / "stop";
+  FileOutput probe({.dir = testing::scratch_dir() / "probe"});
+  write_frames(probe, 0, 1);
+  probe.stop();
+  const std::uint64_t one = probe.stats().bytes;
+  FileOutput out({.dir = dir, .max_bytes = one * 3 + one / 2, .stop_when_full = true});
+  write_frames(out, 1, 8);
+  out.stop();
+  const auto s = out.stats();
+  EXPECT_TRUE(s.full);
+  EXPECT_EQ(s.written, 3u);
+  EXPECT_EQ(images_in(dir), 3u);
+  EXPECT_TRUE(std::filesystem::exists(dir / "frame_000003.jpg"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "frame_000004.jpg"));
+  EXPECT_NE(s.last_error.find("output cap reached"), std::string::npos) << s.last_error;
+  EXPECT_NE(s.last_error.find(dir.string()), std::string::npos) << s.last_error;
+  nlohmann::json status;
+  out.add_status(status);
+  EXPECT_EQ(status["file_output"]["state"], "full");
+  // A restart counts the files already there: the next frame is one too many.
+  FileOutput again({.dir = dir, .max_bytes = one * 3 + one / 2, .stop_when_full = true});
+  EXPECT_EQ(again.stats().files, 3u);
+  write_frames(again, 20, 2);
+  again.stop();
+  EXPECT_TRUE(again.stats().full);
+  EXPECT_EQ(again.stats().written, 0u);
+  EXPECT_EQ(images_in(dir), 3u);
+}
+
+// The age cap removes files older than keep_minutes, earlier runs' files too, and leaves
+// other files alone.
+TEST(FileOutput, AgeCapRemovesOldFilesOfEarlierRuns) {
+  const auto dir = testing::scratch_dir() / "aged";
+  std::filesystem::create_directories(dir);
+  const auto two_hours_ago = std::filesystem::file_time_type::clock::now() - std::chrono::hours(2);
+  for (const char* name : {"frame_000001.jpg", "matte_000001.png", "notes.txt"}) {
+    std::ofstream(dir / name) << "old";
+    std::filesystem::last_write_time(dir / name, two_hours_ago);
+  }
+  std::ofstream(dir / "frame_000002.jpg") << "recent";
+  FileOutput out({.dir = dir, .max_age = std::chrono::minutes(60)});
+  EXPECT_FALSE(std::filesystem::exists(dir / "frame_000001.jpg"));
+  EXPECT_FALSE(std::filesystem::exists(dir / "matte_000001.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "notes.txt")) << "not this output's file";
+  EXPECT_TRUE(std::filesystem::exists(dir / "frame_000002.jpg"));
+  write_frames(out, 3, 1);
+  out.stop();
+  EXPECT_EQ(out.stats().removed, 2u);
+  EXPECT_EQ(out.stats().files, 2u);
+}
+
+// A directory the service cannot write to is an error at start naming it and the fix.
+TEST(FileOutput, UnwritableDirectoryIsAClearErrorAtStart) {
+  const auto file = testing::scratch_dir() / "a-file";
+  std::ofstream(file) << "x";
+  for (const auto& dir : {file / "frames", std::filesystem::path("/proc/probeless-frames")}) {
+    try {
+      FileOutput out({.dir = dir});
+      ADD_FAILURE() << dir << " was accepted";
+    } catch (const FileOutputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(dir.string()), std::string::npos) << what;
+      EXPECT_NE(what.find("not writable"), std::string::npos) << what;
+      EXPECT_NE(what.find("ReadWritePaths="), std::string::npos) << what;
+    }
+  }
 }
 
 TEST(FileOutput, Format) {

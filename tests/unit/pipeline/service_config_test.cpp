@@ -301,5 +301,28 @@ TEST(ServiceConfig, RtspAccessKeys) {
   EXPECT_THROW(parse_service_config("[rtsp]\nmax_sessions = -1\n"), ParseError);
 }
 
+// [output] caps (issue #20): sizes in MB, ages in minutes, what happens when full.
+TEST(ServiceConfig, OutputCaps) {
+  const ServiceConfig none = parse_service_config("");
+  EXPECT_EQ(none.files.max_bytes, 0u);
+  EXPECT_EQ(none.files.max_age.count(), 0);
+  EXPECT_FALSE(none.files.stop_when_full);
+  const ServiceConfig c = parse_service_config(
+      "[output]\ndir = \"/var/lib/probeless/frames\"\nmax_mb = 2048\nkeep_minutes = 90\n"
+      "when_full = \"stop\"\n");
+  EXPECT_EQ(c.files.max_bytes, 2048u * 1'000'000u);
+  EXPECT_EQ(c.files.max_age.count(), 90);
+  EXPECT_TRUE(c.files.stop_when_full);
+  for (const char* bad : {"max_mb = -1", "keep_minutes = -5", "keep_minutes = 600000",
+                          "when_full = \"delete\"", "max_mb = 1.5"}) {
+    try {
+      parse_service_config(std::string("[output]\n") + bad + "\n", "svc.toml");
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const ParseError& e) {
+      EXPECT_EQ(e.line(), 2) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace probeless
