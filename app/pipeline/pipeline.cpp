@@ -314,7 +314,10 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
       tracking_ = std::move(tracking);
     }
     last_good_ = out;
-    output_.publish(std::move(out));
+    if (options_.lossless)
+      while (output_taken_.load() < output_published_ && !stop.stop_requested())
+        std::this_thread::sleep_for(1ms);
+    output_published_ = output_.publish(std::move(out));
     fps_.tick(monotonic_now_ns());
     const auto n = ++processed_;
     if (n == 1) heartbeat = heartbeats_.add("processing");
@@ -398,7 +401,7 @@ void Pipeline::publish_no_signal(const std::string& state) {
     f.colour = std::move(colour);
   }
   f.no_signal = true;
-  output_.publish(std::move(f));
+  output_published_ = output_.publish(std::move(f));
 }
 
 void Pipeline::output_loop(std::stop_token stop) {
@@ -412,6 +415,7 @@ void Pipeline::output_loop(std::stop_token stop) {
     auto item = output_.wait_newer(seen, 100ms, stop);
     if (!item) continue;
     seen = item->sequence;
+    output_taken_ = seen;
     const CompositeFrame& f = item->value;
     OutputFrame out;
     out.timestamp_ns = f.timestamp_ns;

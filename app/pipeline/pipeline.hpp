@@ -140,6 +140,10 @@ class Pipeline {
   std::atomic<bool> strobe_failed_{false};  // the line failed: frames keep driver times
 
   LatestFrame<CompositeFrame> output_;
+  // Lossless mode: the processing thread publishes a composite only once the output thread
+  // has taken the last one, so every processed frame reaches the outputs (tests, benches).
+  LatestFrame<CompositeFrame>::Sequence output_published_ = 0;  // processing thread only
+  std::atomic<LatestFrame<CompositeFrame>::Sequence> output_taken_{0};
   std::optional<CompositeFrame> last_good_;
   std::atomic<bool> no_signal_{false};
   std::atomic<std::uint64_t> processed_{0};
