@@ -226,6 +226,9 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
     if (!pose) ++without_pose_;
     keyframes_ = static_cast<int>(estimator_->light->keyframes().keyframes().size());
     keyframes_dropped_ = estimator_->light->keyframes().dropped();
+    kept_.clear();
+    for (const auto& k : estimator_->light->keyframes().keyframes())
+      kept_.emplace_back(k->id, k->position);
     active_keyframe_ = keyframe.id;
   } catch (const std::exception& e) {
     fail(e.what());
@@ -347,6 +350,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
   std::lock_guard lock(mutex_);
   sh_ = active_sh;
   colour_filled_texels_ = filled_texels;
+  reprojected_count_ = reprojected_.size();
   keyframe_filled_texels_ = keyframe_filled_texels;
   snap->version = ++snapshot_version_;
   snapshot_ = std::move(snap);
@@ -368,8 +372,13 @@ nlohmann::json LightCapture::status() const {
                       {"keyframes", keyframes_},
                       {"keyframes_dropped", keyframes_dropped_},
                       {"max_keyframes", config_.light_max_keyframes},
+                      {"reprojected_keyframes", reprojected_count_},
                       {"active_keyframe", active_keyframe_},
                       {"room", room_ ? (config_.light_room == "box" ? "box" : "sim") : "off"}};
+  nlohmann::json kept = nlohmann::json::array();
+  for (const auto& [id, p] : kept_)
+    kept.push_back({{"id", id}, {"position", {p.x(), p.y(), p.z()}}});
+  j["kept"] = std::move(kept);
   if (sh_) {
     // L00 times Y00 = the mean radiance over the sphere, per channel (up to the constant the
     // HDR conversion leaves).

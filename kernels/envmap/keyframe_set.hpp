@@ -34,8 +34,8 @@ struct Keyframe {
   int id = 0;
   Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world, where it was captured from
   DeviceImage<float, 4> texels;                        // n x 6n, envmap_types.hpp
-  DeviceImage<float, 4> pending;  // the best-score rule's samples of the current cycle
-  std::uint64_t updates = 0;      // frames that updated it
+  DeviceImage<float, 4> pending;   // the best-score rule's samples of the current cycle
+  std::uint64_t updates = 0;       // frames that updated it
   std::uint64_t last_capture = 0;  // the set's capture count when a capture last chose it
 };
 
@@ -57,7 +57,7 @@ class KeyframeSet {
   Keyframe* find(int id);
   // In the order they were made; indices shift when one is dropped (use Keyframe::id).
   const std::vector<std::unique_ptr<Keyframe>>& keyframes() const { return keyframes_; }
-  int active_id() const { return active_; }  // -1: none (yet, or it was dropped)
+  int active_id() const { return active_; }           // -1: none (yet, or it was dropped)
   std::uint64_t dropped() const { return dropped_; }  // keyframes dropped for max_keyframes
 
  private:
