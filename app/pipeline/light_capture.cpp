@@ -162,6 +162,7 @@ bool LightCapture::initialise() {
     light::LightEstimatorConfig lc;
     lc.keyframes.face_size = config_.light_face_size;
     lc.keyframes.new_keyframe_distance_m = config_.light_keyframe_distance_m;
+    lc.keyframes.max_keyframes = config_.light_max_keyframes;
     lc.time_stages = false;  // one wait per frame; the service reports the whole update
     // Push-pull and the SH only for the snapshots (publish(): 4 Hz), not per fisheye frame.
     lc.fill_every_frame = false;
@@ -232,6 +233,10 @@ bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
     ++processed_;
     if (!pose) ++without_pose_;
     keyframes_ = static_cast<int>(estimator_->light->keyframes().keyframes().size());
+    keyframes_dropped_ = estimator_->light->keyframes().dropped();
+    kept_.clear();
+    for (const auto& k : estimator_->light->keyframes().keyframes())
+      kept_.emplace_back(k->id, k->position);
     active_keyframe_ = keyframe.id;
   } catch (const std::exception& e) {
     fail(e.what());
@@ -272,6 +277,13 @@ LightCapture::Reprojected& LightCapture::reprojected(const envmap::Keyframe& key
 // (envmap::fill_unobserved): measured with `eval render` on the sim (2 s orbit), the band of
 // window just above the object's horizon was 80 % of the chrome sphere's error. The others
 // hold the light of when the rig was last near them, so they fill only unobserved texels.
+// A dropped keyframe's map and texels go with it (~8 MB at 192 px faces); ids are never reused,
+// so an entry left behind could only leak, never be read for another keyframe.
+void LightCapture::forget_dropped_keyframes() {
+  const envmap::KeyframeSet& set = estimator_->light->keyframes();
+  std::erase_if(reprojected_, [&](const auto& entry) { return !set.find(entry.first); });
+}
+
 int LightCapture::fill_from_other_keyframes(envmap::ImageRGBAF& texels,
                                             const envmap::Keyframe& nearest) {
   std::vector<const envmap::ImageRGBAF*> others;
@@ -309,6 +321,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
   if (last_publish_ns_ != 0 && frame.timestamp_ns - last_publish_ns_ < kPublishIntervalNs)
     return false;
   last_publish_ns_ = frame.timestamp_ns;
+  forget_dropped_keyframes();
   const envmap::Keyframe* keyframe = estimator_->light->keyframes().nearest(anchor_);
   if (!keyframe) return false;
   const ShRgb active_sh = estimator_->light->sh_of_active();
@@ -345,6 +358,7 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
   std::lock_guard lock(mutex_);
   sh_ = active_sh;
   colour_filled_texels_ = filled_texels;
+  reprojected_count_ = reprojected_.size();
   keyframe_filled_texels_ = keyframe_filled_texels;
   snap->version = ++snapshot_version_;
   snapshot_ = std::move(snap);
@@ -364,8 +378,15 @@ nlohmann::json LightCapture::status() const {
                       {"frames_without_pose", without_pose_},
                       {"frames_paused_without_pose", paused_},
                       {"keyframes", keyframes_},
+                      {"keyframes_dropped", keyframes_dropped_},
+                      {"max_keyframes", config_.light_max_keyframes},
+                      {"reprojected_keyframes", reprojected_count_},
                       {"active_keyframe", active_keyframe_},
                       {"room", room_ ? (config_.light_room == "box" ? "box" : "sim") : "off"}};
+  nlohmann::json kept = nlohmann::json::array();
+  for (const auto& [id, p] : kept_)
+    kept.push_back({{"id", id}, {"position", {p.x(), p.y(), p.z()}}});
+  j["kept"] = std::move(kept);
   if (sh_) {
     // L00 times Y00 = the mean radiance over the sphere, per channel (up to the constant the
     // HDR conversion leaves).

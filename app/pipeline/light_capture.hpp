@@ -14,6 +14,8 @@
 #include <optional>
 #include <stop_token>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "app/pipeline/pose_history.hpp"
 #include "app/pipeline/service_config.hpp"
@@ -113,6 +115,11 @@ class LightCapture {
   std::shared_ptr<const PoseHistory> service_poses_;
   std::uint64_t processed_ = 0, dropped_ = 0, without_pose_ = 0, paused_ = 0;
   int keyframes_ = 0, active_keyframe_ = -1;
+  std::uint64_t keyframes_dropped_ = 0;  // for [light] max_keyframes
+  // /status: the keyframes kept (id, position) and the reprojection cache's entries, so that
+  // a drift of the rig's poses and a cache outliving its keyframe both show from outside.
+  std::vector<std::pair<int, Eigen::Vector3d>> kept_;
+  std::size_t reprojected_count_ = 0;
   std::optional<ShRgb> sh_;
   std::shared_ptr<const LightSnapshot> snapshot_;
   std::uint64_t snapshot_version_ = 0;
@@ -120,10 +127,11 @@ class LightCapture {
   Eigen::Vector3d anchor_ = Eigen::Vector3d::Zero();       // the objects' mean position
   Eigen::Vector3d light_point_ = Eigen::Vector3d::Zero();  // 10 cm above it
   std::optional<envmap::RoomBox> room_;                    // [light] room
-  // Per keyframe id, where its texels land at the light point (keyframes and the light point
-  // do not move, so it is built once) and, for the keyframes other than the nearest, their
-  // reprojected texels with the update count they were made at: only the active keyframe
-  // changes, so the others are reprojected again only after the rig was near them.
+  // Per keyframe id (envmap::Keyframe::id: stable, never reused), where its texels land at the
+  // light point (keyframes and the light point do not move, so it is built once) and, for the
+  // keyframes other than the nearest, their reprojected texels with the update count they were made
+  // at: only the active keyframe changes, so the others are reprojected again only after the rig
+  // was near them.
   struct Reprojected {
     std::optional<envmap::ReprojectionMap> map;
     std::uint64_t updates = 0;
@@ -131,6 +139,7 @@ class LightCapture {
   };
   std::map<int, Reprojected> reprojected_;
   Reprojected& reprojected(const envmap::Keyframe& keyframe);  // with its map built
+  void forget_dropped_keyframes();  // the entries of keyframes the set no longer holds
   int keyframe_filled_texels_ = 0;
   bool want_rgbd_ = true;
   std::shared_ptr<const RgbdFrame> rgbd_;  // the copy offer_rgbd took

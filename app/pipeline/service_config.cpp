@@ -319,11 +319,12 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   }
   if (auto* t = r.optional_table(root, "light")) {
     r.only(*t, "[light]",
-           {"enabled", "face_size", "keyframe_distance_m", "room", "room_min", "room_max",
-            "colour_fill"});
+           {"enabled", "face_size", "keyframe_distance_m", "max_keyframes", "room", "room_min",
+            "room_max", "colour_fill"});
     r.get(*t, "enabled", c.light_enabled);
     r.get(*t, "face_size", c.light_face_size);
     r.get(*t, "keyframe_distance_m", c.light_keyframe_distance_m);
+    r.get(*t, "max_keyframes", c.light_max_keyframes);
     r.get(*t, "room", c.light_room);
     r.get(*t, "colour_fill", c.light_colour_fill);
     r.get_vector<3>(*t, "room_min", c.light_room_min);
@@ -346,6 +347,9 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
       r.fail(t->get("face_size"), "face_size must be a multiple of 32 in 32..1024");
     if (!(c.light_keyframe_distance_m > 0))
       r.fail(t->get("keyframe_distance_m"), "keyframe_distance_m must be positive");
+    // Past 256 keyframes the cap is no budget: 3.8 GB at 192 px faces.
+    if (c.light_max_keyframes < 1 || c.light_max_keyframes > 256)
+      r.fail(t->get("max_keyframes"), "max_keyframes must be in 1..256");
   }
   if (auto* t = r.optional_table(root, "display")) {
     r.only(*t, "[display]", {"enabled", "card", "connector", "mode"});

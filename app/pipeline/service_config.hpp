@@ -103,6 +103,11 @@ struct ServiceConfig {
   // below 60 fps here, 192 keeps it at ~75 (docs/performance.md, 2026-11-26).
   int light_face_size = 192;
   double light_keyframe_distance_m = 0.5;
+  // Keyframes kept (the farthest from the rig is dropped past it; docs/light-capture.md "How
+  // many keyframes"). Each costs ~15 MB resident at 192 px faces (two device cubemaps of
+  // 3.5 MB, the reprojection map and its reprojected texels, 8 MB; issue #20's soak), and
+  // docs/security.md "Memory" budgets light capture at 256 MB on a 2 GB board: 16 x 15 = 240.
+  int light_max_keyframes = 16;
   // Parallax with a room proxy (docs/light-capture.md "Parallax"): "off" (distant light, the
   // thesis's keyframes), "sim" (the synthetic rig's room; sim sources only), "box" (an
   // axis-aligned box from light_room_min to light_room_max, world metres). With a room the

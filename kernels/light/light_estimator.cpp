@@ -88,6 +88,7 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
       fill(*near);
   }
   envmap::Keyframe& keyframe = keyframes_.for_capture(T_world_fisheye.translation);
+  if (keyframes_.dropped() != dropped_seen_) forget_dropped_keyframes();
   envmap::FisheyeView view;
   view.lut = fisheye_;
   view.R_camera_world = T_world_fisheye.rotation.toRotationMatrix().transpose();
@@ -116,11 +117,20 @@ const envmap::Keyframe& LightEstimator::process(const FisheyeFrame& frame,
   return keyframe;
 }
 
+// What is kept here per keyframe goes with it (its SH table: 0.6 MB at 32 px faces).
+void LightEstimator::forget_dropped_keyframes() {
+  const auto dropped = [&](const auto& entry) { return !keyframes_.find(entry.first); };
+  std::erase_if(filled_at_, dropped);
+  std::erase_if(reprojected_, dropped);
+  if (!keyframes_.find(sh_keyframe_)) sh_keyframe_ = -1;
+  dropped_seen_ = keyframes_.dropped();
+}
+
 void LightEstimator::fill(const envmap::Keyframe& keyframe) {
   std::uint64_t& filled = filled_at_[keyframe.id];
   if (filled == keyframe.updates && keyframe.updates != 0) return;
   // keyframes_ owns the keyframe; push-pull writes its texels on the device.
-  push_pull_.fill(keyframes_.keyframes()[static_cast<std::size_t>(keyframe.id)]->texels);
+  push_pull_.fill(keyframes_.find(keyframe.id)->texels);
   filled = keyframe.updates;
 }
 
@@ -148,8 +158,9 @@ void LightEstimator::project_sh(const envmap::Keyframe& keyframe) {
 
 const ShRgb& LightEstimator::sh_of_active() {
   const int id = keyframes_.active_id();
-  if (id < 0) return sh_;
-  const envmap::Keyframe& keyframe = *keyframes_.keyframes()[static_cast<std::size_t>(id)];
+  const envmap::Keyframe* active = keyframes_.find(id);
+  if (!active) return sh_;
+  const envmap::Keyframe& keyframe = *active;
   if (sh_keyframe_ == id && sh_updates_ == keyframe.updates) return sh_;
   fill(keyframe);
   project_sh(keyframe);

@@ -96,7 +96,8 @@ class LightEstimator {
   envmap::PushPull push_pull_;
   envmap::EnvmapDownsample downsample_;
   ShProjector projector_;
-  // With a room and sh_position: per keyframe id, the table of its SH seen from there.
+  // With a room and sh_position: per keyframe id (Keyframe::id, stable), the table of its SH
+  // seen from there.
   std::map<int, ShProjector> reprojected_;
   DeviceImage<std::uint16_t, 3> raw_;
   DeviceImage<float, 4> small_;
@@ -110,6 +111,9 @@ class LightEstimator {
   std::map<int, std::uint64_t> filled_at_;
   int sh_keyframe_ = -1;
   std::uint64_t sh_updates_ = 0;
+  // keyframes_.dropped() when the maps above were last cleared of dropped keyframes' ids.
+  std::uint64_t dropped_seen_ = 0;
+  void forget_dropped_keyframes();
   LightTimings timings_;
 };
 

@@ -57,5 +57,45 @@ TEST(LightEstimator, FillingWhenReadGivesWhatFillingEveryFrameGives) {
   expect_same(b.sh_of_active(), a.sh());
 }
 
+// With max_keyframes the set drops keyframes while the estimator keeps per-keyframe state
+// (push-pull done, the SH table seen from the object): keyed by index, a dropped keyframe's
+// entry would be read for another and a fill skipped. Over an orbit that drops many, filling
+// when read must still give what filling every frame gives, texel for texel and SH for SH.
+TEST(LightEstimator, DroppedKeyframesLeaveNoStaleState) {
+  auto& ctx = cl_context();
+  Rig rig = sim::make_sim_rig(
+      sim::parse_sim_options("realtime=0,fisheye_size=256,trajectory=orbit,threads=1"));
+  ASSERT_TRUE(rig.scene.room && rig.scene.object_anchor);
+  LightEstimatorConfig every;
+  every.keyframes.face_size = 32;
+  every.keyframes.new_keyframe_distance_m = 0.03;
+  every.keyframes.max_keyframes = 2;
+  every.room = rig.scene.room;
+  every.sh_position = *rig.scene.object_anchor + Eigen::Vector3d(0, 0, 0.1);
+  every.time_stages = false;
+  LightEstimatorConfig when_read = every;
+  when_read.fill_every_frame = false;
+  LightEstimator a(ctx, *rig.calibration.fisheye, rig.calibration.T_rig_fisheye, every);
+  LightEstimator b(ctx, *rig.calibration.fisheye, rig.calibration.T_rig_fisheye, when_read);
+
+  BracketSequencer sequencer;
+  FisheyeFrame frame;
+  for (int i = 0; i < 60; ++i) {
+    rig.fisheye->set_next_exposure(sequencer.next());
+    ASSERT_EQ(rig.fisheye->read(frame, std::chrono::seconds(5)), ReadResult::Frame);
+    a.process(frame, *frame.truth->rig_pose);
+    const envmap::Keyframe& k = b.process(frame, *frame.truth->rig_pose);
+    ASSERT_LE(b.keyframes().keyframes().size(), 2U);
+    ASSERT_EQ(b.keyframes().active_id(), k.id);
+    if (i % 5 == 4) expect_same(b.sh_of_active(), a.sh());
+  }
+  ASSERT_GE(b.keyframes().dropped(), 3U) << "the orbit should outrun a cap of 2";
+  ASSERT_EQ(a.keyframes().dropped(), b.keyframes().dropped());
+  for (std::size_t k = 0; k < a.keyframes().keyframes().size(); ++k)
+    expect_same(b.download(*b.keyframes().keyframes()[k]),
+                a.download(*a.keyframes().keyframes()[k]));
+  expect_same(b.sh_of_active(), a.sh());
+}
+
 }  // namespace
 }  // namespace probeless::light

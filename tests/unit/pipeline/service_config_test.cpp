@@ -63,6 +63,7 @@ gpio_line = 17
 [light]
 face_size = 64
 keyframe_distance_m = 0.25
+max_keyframes = 9
 room = "box"
 room_min = [-2.0, -3.0, 0.0]
 room_max = [2.5, 3.0, 2.4]
@@ -98,6 +99,8 @@ room_max = [2.5, 3.0, 2.4]
   EXPECT_TRUE(c.light_enabled);
   EXPECT_EQ(c.light_face_size, 64);
   EXPECT_EQ(c.light_keyframe_distance_m, 0.25);
+  EXPECT_EQ(c.light_max_keyframes, 9);
+  EXPECT_EQ(ServiceConfig{}.light_max_keyframes, 16);  // the default within the memory budget
   EXPECT_EQ(c.light_room, "box");
   EXPECT_DOUBLE_EQ(c.light_room_min.y(), -3.0);
   EXPECT_DOUBLE_EQ(c.light_room_max.z(), 2.4);
@@ -140,6 +143,9 @@ TEST(ServiceConfig, BadValuesAreErrors) {
   EXPECT_THROW(parse_service_config("[light]\nface_size = 4\n"), ParseError);
   EXPECT_THROW(parse_service_config("[light]\nface_size = 80\n"), ParseError);  // not x32
   EXPECT_THROW(parse_service_config("[light]\nkeyframe_distance_m = 0\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nmax_keyframes = 0\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nmax_keyframes = 257\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[light]\nmax_keyframes = 1.5\n"), ParseError);
   EXPECT_THROW(parse_service_config("[light]\nroom = \"cube\"\n"), ParseError);
   EXPECT_THROW(parse_service_config("[light]\nroom = \"box\"\nroom_min = [0, 0, 0]\n"), ParseError);
   EXPECT_THROW(
