@@ -7,24 +7,12 @@
 #include <numbers>
 
 #include "core/camera/kannala_brandt.hpp"
+#include "lab/calib/pose_step.hpp"
 
 namespace probeless::calib {
 namespace {
 
-using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Vector8d = Eigen::Matrix<double, 8, 1>;  // fx fy cx cy k1 k2 k3 k4
-
-// A small change of a pose: rotation vector first, then translation.
-Pose perturbed(const Pose& p, const Vector6d& d) {
-  Pose out;
-  const double angle = d.head<3>().norm();
-  const Eigen::Quaterniond dq =
-      angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, d.head<3>() / angle))
-                : Eigen::Quaterniond::Identity();
-  out.rotation = (dq * p.rotation).normalized();
-  out.translation = p.translation + d.tail<3>();
-  return out;
-}
 
 // core's projection without its domain check: during the refinement the domain is what the
 // corners need (max_theta is set from the image circle afterwards).

@@ -9,26 +9,13 @@
 #include <numbers>
 
 #include "lab/calib/intrinsics.hpp"
+#include "lab/calib/pose_step.hpp"
 
 namespace probeless::calib {
 namespace {
 
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-
 double angle_between(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
   return a.angularDistance(b);
-}
-
-// A small change of a pose: rotation vector first, then translation.
-Pose perturbed(const Pose& p, const Vector6d& d) {
-  Pose out;
-  const double angle = d.head<3>().norm();
-  const Eigen::Quaterniond dq =
-      angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, d.head<3>() / angle))
-                : Eigen::Quaterniond::Identity();
-  out.rotation = (dq * p.rotation).normalized();
-  out.translation = p.translation + d.tail<3>();
-  return out;
 }
 
 double median(std::vector<double> v) {

@@ -20,17 +20,8 @@ using namespace std::chrono_literals;
 using probeless::testing::expect_same;
 using probeless::testing::make_test_frames;
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << text;
-}
+using probeless::testing::read_text;
+using probeless::testing::write_text;
 
 void append_text(const fs::path& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary | std::ios::app);

@@ -20,17 +20,8 @@ using probeless::testing::expect_same;
 using probeless::testing::make_test_frames;
 using probeless::testing::write_recording;
 
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary | std::ios::trunc);
-  out << text;
-}
+using probeless::testing::read_text;
+using probeless::testing::write_text;
 
 // Replaces the first occurrence of `from` in file `p`.
 void edit(const fs::path& p, const std::string& from, const std::string& to) {
