@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 BUILD := build/$(PRESET)
 PROBELESS := $(BUILD)/app/probeless
 
-.PHONY: all setup configure build test test-asan fuzz demo bench package format clean
+.PHONY: all setup configure build test test-asan fuzz demo demo-calibrate bench package format clean
 
 all: build
 
@@ -40,6 +40,16 @@ fuzz:
 
 demo: build
 	$(PROBELESS) run
+
+# Bring-up on the synthetic rig (docs/calibration.md "Checked on the sim"): record the sim's
+# calibration views of its ChArUco board with both cameras, calibrate the rig from them, and
+# compare what was recovered with the recording's true calibration.
+DEMO_CALIB := $(BUILD)/demo-calibrate
+demo-calibrate: build
+	rm -rf $(DEMO_CALIB) && mkdir -p $(DEMO_CALIB)
+	$(PROBELESS) record --source sim:trajectory=calibration,fps=1,fisheye_fps=1,realtime=0,fisheye_size=1024 --frames 53 $(DEMO_CALIB)/rec
+	$(PROBELESS) calibrate --recording $(DEMO_CALIB)/rec --board charuco:5x4:80:60:4x4_50 --out $(DEMO_CALIB)/rig.toml --json $(DEMO_CALIB)/rig.json --views-out $(DEMO_CALIB)/views
+	@echo "recovered: $(DEMO_CALIB)/rig.toml, corners per view: $(DEMO_CALIB)/views/, truth: $(DEMO_CALIB)/rec/calibration.toml"
 
 bench: build
 	$(PROBELESS) bench sim
