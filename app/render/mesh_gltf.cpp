@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <new>
 #include <set>
 #include <stdexcept>
 
@@ -290,8 +291,17 @@ Mesh load_gltf(const std::filesystem::path& path, const ModelLoadOptions& option
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return std::tolower(c); });
   detail::check_model_file(path);
-  const bool ok = ext == ".glb" ? reader.LoadBinaryFromFile(&model, &err, &warn, file)
-                                : reader.LoadASCIIFromFile(&model, &err, &warn, file);
+  bool ok = false;
+  try {
+    ok = ext == ".glb" ? reader.LoadBinaryFromFile(&model, &err, &warn, file)
+                       : reader.LoadASCIIFromFile(&model, &err, &warn, file);
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    // tinygltf 2.5 itself throws on some malformed files (std::out_of_range from a
+    // vector::at over an empty buffer list: make fuzz, tests/fuzz/corpus/gltf/crash-*).
+    err = e.what();
+  }
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
     throw std::runtime_error(

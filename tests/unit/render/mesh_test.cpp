@@ -250,6 +250,17 @@ void expect_error_names_file(const std::function<void()>& load, const std::files
   }
 }
 
+// make fuzz's finding (tests/fuzz/corpus/gltf/crash-tinygltf-out-of-range.glb, 712 bytes): a
+// GLB on which tinygltf throws std::out_of_range from its own parser instead of returning
+// false; it reached std::terminate through `probeless run`.
+TEST(LoadGltf, TinygltfsOwnExceptionsAreAClearError) {
+  const auto finding = std::filesystem::path(PROBELESS_TEST_SOURCE_DIR) /
+                       "../../fuzz/corpus/gltf/crash-tinygltf-out-of-range.glb";
+  const auto file = testing::scratch_dir() / "finding.glb";
+  std::filesystem::copy_file(finding, file, std::filesystem::copy_options::overwrite_existing);
+  expect_error_names_file([&] { load_gltf(file); }, file, "not a readable glTF file");
+}
+
 TEST(LoadGltf, MalformedFilesNameTheFile) {
   const auto dir = testing::scratch_dir();
   write_text(dir / "broken.gltf", "{ \"asset\": { \"version\": \"2.0\" }, ");
