@@ -6,6 +6,7 @@
 
 #include "app/cli/commands.hpp"
 #include "app/pipeline/pipeline.hpp"
+#include "app/service/heap_trim.hpp"
 #include "app/service/signals.hpp"
 #include "app/service/socket_activation.hpp"
 #include "app/service/systemd_notifier.hpp"
@@ -88,6 +89,7 @@ void run(const RunArgs& args) {
   // The first frame includes OpenCL program builds (about a second each on PoCL when the
   // binary cache is cold), hence the generous wait.
   bool ready = false;
+  HeapTrimmer heap;  // RSS flat over hours (app/service/heap_trim.hpp)
   while (!signals.stop_requested() && !pipeline.finished()) {
     if (!ready && pipeline.wait_first_frame(std::chrono::milliseconds(100))) {
       ready = true;
@@ -99,7 +101,10 @@ void run(const RunArgs& args) {
     // ServiceWatchdog beats from the start for the threads already watched; processing and
     // light join at their first frame; TimeoutStartSec bounds the start.
     if (signals.wait_for(std::chrono::milliseconds(ready ? 1000 : 0))) break;
-    if (ready) notifier.status(status_line(pipeline.status()));
+    if (ready) {
+      notifier.status(status_line(pipeline.status()));
+      heap.maybe_trim();
+    }
   }
   notifier.stopping();
   if (signals.stop_requested()) spdlog::info("signal {}: stopping", signals.signal_number());
