@@ -17,10 +17,10 @@ using namespace std::chrono_literals;
 
 TEST(BenchHttpCli, AbuseLeavesTheServiceServingAndItsDescriptorsAtBaseline) {
   const auto json = scratch_dir() / "bench-http.json";
-  Subprocess bench(
-      {probeless_binary(), "bench", "http", "--viewers", "4", "--stalled", "2", "--idle", "20",
-       "--slowloris", "20", "--leaving", "200", "--seconds", "1", "--json", json.string()},
-      {}, true);
+  Subprocess bench({probeless_binary(), "bench", "http", "--viewers", "4", "--stalled", "2",
+                    "--idle", "20", "--slowloris", "20", "--leaving", "200", "--seconds", "1",
+                    "--settle-s", "0", "--json", json.string()},
+                   {}, true);
   ASSERT_EQ(bench.wait(300s).value_or(-1), 0) << bench.output();
   std::ifstream f(json);
   const nlohmann::json j = nlohmann::json::parse(f);
