@@ -128,7 +128,10 @@ void HttpConnections::sweep() {
     }
     release_closed();
   }
-  if (on_sweep_) on_sweep_();
+  if (on_sweep_) {
+    on_sweep_();
+    release_closed();  // what on_sweep_ freed (slow streams) is closed now, not a sweep later
+  }
 }
 
 }  // namespace probeless

@@ -8,9 +8,7 @@
 #include <event2/listener.h>
 #include <event2/thread.h>
 #include <fcntl.h>
-#include <linux/sockios.h>
 #include <netdb.h>
-#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -129,10 +127,12 @@ struct StreamClient {
   LatestFrame<EncodedFrame>::Sequence last_sent = 0;
   std::uint64_t frames_sent = 0;
   std::uint64_t skipped = 0;  // frames between two sent ones
-  std::uint64_t bytes_queued = 0;
-  std::size_t buffered = 0;  // output not yet taken by the kernel, as of the last look
-  // Frames queued and not yet taken whole: where each ends in bytes_queued, and when it was
-  // queued (the slow-reader rule, stalled_client_timeout).
+  std::size_t buffered = 0;   // output not yet taken by the kernel, as of the last look
+  // The slow-reader rule (stalled_client_timeout): every byte our output buffer ever took for
+  // this client, chunk framing included, and for each part not yet handed whole to the
+  // kernel, that count just after it and when it was queued. The buffer is a FIFO: a part is
+  // out once fewer bytes remain in it than were added after the part.
+  std::uint64_t bytes_added = 0;
   std::deque<std::pair<std::uint64_t, TimestampNs>> queued_parts;
 };
 
@@ -546,18 +546,19 @@ void HttpServer::Impl::offer(StreamClient& client) {
   add_jpeg_reference(part, frame.jpeg);
   evbuffer_add(part, "\r\n", 2);
   const std::size_t part_bytes = evbuffer_get_length(part);
-  {
-    std::lock_guard lock(stats_mutex);
-    if (client.last_sent > 0) client.skipped += current->sequence - client.last_sent - 1;
-    client.last_sent = current->sequence;
-    ++client.frames_sent;
-    client.bytes_queued += part_bytes;
-    client.queued_parts.emplace_back(client.bytes_queued, monotonic_now_ns());
-    client.buffered = buffered + part_bytes;
-    bytes_queued += part_bytes;
-  }
   evhttp_send_reply_chunk_with_cb(client.request, part, on_stream_drained_cb, &client);
   evbuffer_free(part);
+  // evhttp adds the part and its chunk framing to the output buffer at once; the socket is
+  // written later, from the loop, so the difference is what this part added.
+  const std::size_t after = evbuffer_get_length(bufferevent_get_output(bev));
+  std::lock_guard lock(stats_mutex);
+  if (client.last_sent > 0) client.skipped += current->sequence - client.last_sent - 1;
+  client.last_sent = current->sequence;
+  ++client.frames_sent;
+  client.bytes_added += after > buffered ? after - buffered : part_bytes;
+  client.queued_parts.emplace_back(client.bytes_added, monotonic_now_ns());
+  client.buffered = after;
+  bytes_queued += part_bytes;
 }
 
 void HttpServer::Impl::drained(StreamClient& client) {
@@ -568,8 +569,14 @@ void HttpServer::Impl::drained(StreamClient& client) {
   offer(client);
 }
 
-// Every sweep: a stream client with a frame queued longer than stalled_client_timeout and
-// still not taken whole is dropped, however many bytes it takes now and then.
+// Every sweep: a stream client whose oldest frame not yet handed whole to the kernel was
+// queued more than stalled_client_timeout ago is dropped, however many bytes it takes now and
+// then. The kernel's send queue is not counted: it is bounded by the socket's send buffer,
+// and on loopback it grows to megabytes (2.7 MB measured), which would put any reader slower
+// than the stream, one the buffer limit already serves by skipping frames, seconds behind. A
+// client is dropped once at most client_buffer_limit + one frame, queued behind the full
+// kernel queue, takes it longer than the timeout: a reader slower than about
+// (client_buffer_limit + a frame) / stalled_client_timeout.
 void HttpServer::Impl::drop_slow_streams() {
   const TimestampNs now = monotonic_now_ns();
   const TimestampNs limit_ns = ms_to_ns(
@@ -580,22 +587,21 @@ void HttpServer::Impl::drop_slow_streams() {
     evhttp_connection* conn = evhttp_request_get_connection(client->request);
     if (conn == nullptr) continue;
     bufferevent* bev = evhttp_connection_get_bufferevent(conn);
-    // Not yet taken: our output buffer and the socket's send queue (SIOCOUTQ: unsent and
-    // unacknowledged), which on loopback grows to megabytes and would hide a slow reader.
-    // Both include the chunk framing, which bytes_queued does not: `taken` errs low by a few
-    // bytes per part, never high.
-    int in_kernel = 0;
-    if (ioctl(bufferevent_getfd(bev), SIOCOUTQ, &in_kernel) != 0) in_kernel = 0;
-    const std::size_t buffered = evbuffer_get_length(bufferevent_get_output(bev)) +
-                                 static_cast<std::size_t>(std::max(in_kernel, 0));
-    const std::uint64_t taken =
-        client->bytes_queued > buffered ? client->bytes_queued - buffered : 0;
+    const std::size_t left = evbuffer_get_length(bufferevent_get_output(bev));
     auto& parts = client->queued_parts;
-    while (!parts.empty() && (parts.front().first <= taken || buffered == 0)) parts.pop_front();
-    if (limit_ns > 0 && !parts.empty() && now - parts.front().second > limit_ns)
+    while (!parts.empty() && client->bytes_added - parts.front().first >= left) parts.pop_front();
+    if (limit_ns > 0 && !parts.empty() && now - parts.front().second > limit_ns) {
+      // Reset, not closed: a close would queue the FIN behind the kernel's send queue, which
+      // the reader would still get at its trickle (minutes for megabytes) before seeing the
+      // end, while the orphaned socket kept that memory. With a zero linger the close
+      // (evhttp's, or our connection tracker's) discards the queue and sends a reset.
+      const linger abort{1, 0};
+      setsockopt(bufferevent_getfd(bev), SOL_SOCKET, SO_LINGER, &abort, sizeof abort);
       slow.push_back(conn);
+    }
   }
-  // Freeing a connection runs its close callback, which removes the client from the list.
+  // Freeing a connection runs its close callback, which removes the client from the list;
+  // the tracker closes the socket right after this returns (HttpConnections::sweep).
   for (evhttp_connection* conn : slow) evhttp_connection_free(conn);
   std::lock_guard lock(stats_mutex);
   slow_streams_dropped += slow.size();

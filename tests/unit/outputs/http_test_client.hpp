@@ -220,6 +220,7 @@ class MjpegReader {
 
   const std::string& boundary() const { return boundary_; }
   bool chunked() const { return chunked_; }
+  bool closed() const { return client_.eof(); }  // the server ended the stream (or reset it)
 
  private:
   std::optional<MjpegPart> parse_part() {
