@@ -1,8 +1,11 @@
 #include "kernels/occlusion/temporal/matte_stabiliser.hpp"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
+#include <string>
 
+#include "kernels/occlusion/cvf/cvf_vector_cl.hpp"
 #include "kernels/occlusion/temporal/matte_stabiliser_cl.hpp"
 
 namespace probeless::occlusion {
@@ -17,11 +20,10 @@ struct MotionArg {
 };
 static_assert(sizeof(MotionArg) == 20 * sizeof(cl_float));
 
-template <typename T, int C>
-void copy_image(ComputeContext& ctx, const DeviceImage<T, C>& from, DeviceImage<T, C>& to) {
-  to.resize(ctx.context(), from.width(), from.height());
-  if (!from.empty())
-    ctx.queue().enqueueCopyBuffer(from.buffer(), to.buffer(), 0, 0, from.size_bytes());
+const std::string& source() {
+  static const std::string s =
+      std::string(cl_source::cvf_vector) + std::string(cl_source::matte_stabiliser);
+  return s;
 }
 
 }  // namespace
@@ -29,7 +31,7 @@ void copy_image(ComputeContext& ctx, const DeviceImage<T, C>& from, DeviceImage<
 MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
     : ctx_(ctx),
       params_(params),
-      kernel_(ctx.kernel("matte_stabiliser", cl_source::matte_stabiliser, "", "stabilise_matte")) {
+      kernel_(ctx.kernel("matte_stabiliser", source(), "", "stabilise_matte")) {
   if (!(params.history_weight >= 0.f && params.history_weight < 1.f))
     throw std::invalid_argument("matte stabiliser: history_weight must lie in [0, 1)");
   if (!(params.colour_range > 0.f))
@@ -45,10 +47,17 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
   if (!alpha.same_size(*in.colour))
     throw std::invalid_argument("matte stabiliser: the matte differs in size from the frame");
   const int w = in.width(), h = in.height();
-  if (have_previous_ && !prev_alpha_.same_size(w, h)) have_previous_ = false;
-  if (have_previous_ && w > 0 && h > 0) {
+  if (!history_[previous_].same_size(w, h)) {
+    have_previous_ = false;
+    for (int b = 0; b < 2; ++b) {
+      history_[b].resize(ctx_.context(), w, h);
+      depth_[b].resize(ctx_.context(), w, h);
+    }
+  }
+  if (w > 0 && h > 0) {
     Pose T_prev_curr;  // identity without both poses
-    if (T_world_camera && previous_pose_) T_prev_curr = previous_pose_->inverse() * *T_world_camera;
+    if (have_previous_ && T_world_camera && previous_pose_)
+      T_prev_curr = previous_pose_->inverse() * *T_world_camera;
     MotionArg m{};
     const Eigen::Matrix3d r = T_prev_curr.rotation.toRotationMatrix();
     for (int i = 0; i < 9; ++i)
@@ -63,25 +72,31 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
     m.colour_range = params_.colour_range;
     m.depth_tol_mm = params_.depth_tolerance_mm;
     m.depth_tol_rel = params_.depth_tolerance_rel;
+    // Strips of rows, one work-item each: a few per compute unit so that a strip with more of
+    // the object does not leave the other units idle.
+    const int strips = std::min(h, 8 * std::max(1, static_cast<int>(ctx_.info().compute_units)));
+    const int strip_rows = (h + strips - 1) / strips;
+    const int groups = (h + strip_rows - 1) / strip_rows;
+    const int next = 1 - previous_;
     int a = 0;
     kernel_.setArg(a++, alpha.buffer());
     kernel_.setArg(a++, in.colour->buffer());
     kernel_.setArg(a++, in.real_depth_mm->buffer());
     kernel_.setArg(a++, in.virtual_depth_mm->buffer());
-    kernel_.setArg(a++, prev_alpha_.buffer());
-    kernel_.setArg(a++, prev_colour_.buffer());
-    kernel_.setArg(a++, prev_depth_.buffer());
-    kernel_.setArg(a++, prev_virtual_.buffer());
+    kernel_.setArg(a++, history_[previous_].buffer());
+    kernel_.setArg(a++, depth_[previous_].buffer());
+    kernel_.setArg(a++, history_[next].buffer());
+    kernel_.setArg(a++, depth_[next].buffer());
     kernel_.setArg(a++, w);
     kernel_.setArg(a++, h);
+    kernel_.setArg(a++, strip_rows);
+    kernel_.setArg(a++, have_previous_ ? 1 : 0);
     kernel_.setArg(a++, sizeof(m), &m);
-    ctx_.run_2d(kernel_, w, h);
+    ctx_.queue().enqueueNDRangeKernel(kernel_, ::cl::NullRange,
+                                      ::cl::NDRange(1, static_cast<std::size_t>(groups)),
+                                      ::cl::NDRange(1, 1));
+    previous_ = next;  // this frame becomes the previous one
   }
-  // This frame becomes the previous one: its inputs and its stabilised matte.
-  copy_image(ctx_, alpha, prev_alpha_);
-  copy_image(ctx_, *in.colour, prev_colour_);
-  copy_image(ctx_, *in.real_depth_mm, prev_depth_);
-  copy_image(ctx_, *in.virtual_depth_mm, prev_virtual_);
   previous_pose_ = T_world_camera;
   have_previous_ = true;
 }
