@@ -22,7 +22,7 @@ typedef struct {
   float r[9];  // row-major rotation, current camera -> previous camera
   float t[3];  // mm
   float fx, fy, cx, cy;
-  float history_weight, colour_range, depth_tol_mm, depth_tol_rel;
+  float history_weight, colour_range, depth_tol_mm, depth_tol_rel, snap;
 } Motion;
 
 #define ON_OBJECT (1u << 24)
@@ -92,7 +92,10 @@ inline vf stabilise16(int x0, int y, int width, int height, vf a, vf v, vi on, v
   const vf c = (dr * dr + dg * dg + db * db) / (m->colour_range * m->colour_range);
   ok &= (c < 1.0f);
   const vf h = m->history_weight * (1.0f - c);
-  return select(a, (1.0f - h) * a + h * (sa / sw), ok);
+  vf out = (1.0f - h) * a + h * (sa / sw);
+  out = select(out, (vf)(0.0f), out < m->snap);
+  out = select(out, (vf)(1.0f), out > 1.0f - m->snap);
+  return select(a, out, ok);
 }
 
 inline ulong16 texels(vf alpha, vf r, vf g, vf b, vi on) {

@@ -11,14 +11,14 @@
 namespace probeless::occlusion {
 namespace {
 
-// matte_stabiliser.cl's Motion, field for field (20 floats).
+// matte_stabiliser.cl's Motion, field for field (21 floats).
 struct MotionArg {
   std::array<cl_float, 9> r;
   std::array<cl_float, 3> t;
   cl_float fx, fy, cx, cy;
-  cl_float history_weight, colour_range, depth_tol_mm, depth_tol_rel;
+  cl_float history_weight, colour_range, depth_tol_mm, depth_tol_rel, snap;
 };
-static_assert(sizeof(MotionArg) == 20 * sizeof(cl_float));
+static_assert(sizeof(MotionArg) == 21 * sizeof(cl_float));
 
 const std::string& source() {
   static const std::string s =
@@ -38,6 +38,8 @@ MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
     throw std::invalid_argument("matte stabiliser: colour_range must be > 0");
   if (!(params.depth_tolerance_mm >= 0.f && params.depth_tolerance_rel >= 0.f))
     throw std::invalid_argument("matte stabiliser: depth tolerances must be >= 0");
+  if (!(params.snap >= 0.f && params.snap < 0.5f))
+    throw std::invalid_argument("matte stabiliser: snap must lie in [0, 0.5)");
 }
 
 void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics& k,
@@ -72,6 +74,7 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
     m.colour_range = params_.colour_range;
     m.depth_tol_mm = params_.depth_tolerance_mm;
     m.depth_tol_rel = params_.depth_tolerance_rel;
+    m.snap = params_.snap;
     // Strips of rows, one work-item each: a few per compute unit so that a strip with more of
     // the object does not leave the other units idle.
     const int strips = std::min(h, 8 * std::max(1, static_cast<int>(ctx_.info().compute_units)));
