@@ -3,9 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <stdexcept>
-#include <string>
 
-#include "kernels/occlusion/cvf/cvf_vector_cl.hpp"
 #include "kernels/occlusion/temporal/matte_stabiliser_cl.hpp"
 
 namespace probeless::occlusion {
@@ -20,18 +18,12 @@ struct MotionArg {
 };
 static_assert(sizeof(MotionArg) == 21 * sizeof(cl_float));
 
-const std::string& source() {
-  static const std::string s =
-      std::string(cl_source::cvf_vector) + std::string(cl_source::matte_stabiliser);
-  return s;
-}
-
 }  // namespace
 
 MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
     : ctx_(ctx),
       params_(params),
-      kernel_(ctx.kernel("matte_stabiliser", source(), "", "stabilise_matte")) {
+      kernel_(ctx.kernel("matte_stabiliser", cl_source::matte_stabiliser, "", "stabilise_matte")) {
   if (!(params.history_weight >= 0.f && params.history_weight < 1.f))
     throw std::invalid_argument("matte stabiliser: history_weight must lie in [0, 1)");
   if (!(params.colour_range > 0.f))
