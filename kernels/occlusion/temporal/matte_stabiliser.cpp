@@ -1,5 +1,6 @@
 #include "kernels/occlusion/temporal/matte_stabiliser.hpp"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 
@@ -8,21 +9,14 @@
 namespace probeless::occlusion {
 namespace {
 
-// matte_stabiliser.cl's Motion, field for field (20 floats).
+// matte_stabiliser.cl's Motion, field for field (21 floats).
 struct MotionArg {
   std::array<cl_float, 9> r;
   std::array<cl_float, 3> t;
   cl_float fx, fy, cx, cy;
-  cl_float history_weight, colour_range, depth_tol_mm, depth_tol_rel;
+  cl_float history_weight, colour_range, depth_tol_mm, depth_tol_rel, snap;
 };
-static_assert(sizeof(MotionArg) == 20 * sizeof(cl_float));
-
-template <typename T, int C>
-void copy_image(ComputeContext& ctx, const DeviceImage<T, C>& from, DeviceImage<T, C>& to) {
-  to.resize(ctx.context(), from.width(), from.height());
-  if (!from.empty())
-    ctx.queue().enqueueCopyBuffer(from.buffer(), to.buffer(), 0, 0, from.size_bytes());
-}
+static_assert(sizeof(MotionArg) == 21 * sizeof(cl_float));
 
 }  // namespace
 
@@ -36,6 +30,8 @@ MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
     throw std::invalid_argument("matte stabiliser: colour_range must be > 0");
   if (!(params.depth_tolerance_mm >= 0.f && params.depth_tolerance_rel >= 0.f))
     throw std::invalid_argument("matte stabiliser: depth tolerances must be >= 0");
+  if (!(params.snap >= 0.f && params.snap < 0.5f))
+    throw std::invalid_argument("matte stabiliser: snap must lie in [0, 0.5)");
 }
 
 void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics& k,
@@ -45,10 +41,17 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
   if (!alpha.same_size(*in.colour))
     throw std::invalid_argument("matte stabiliser: the matte differs in size from the frame");
   const int w = in.width(), h = in.height();
-  if (have_previous_ && !prev_alpha_.same_size(w, h)) have_previous_ = false;
-  if (have_previous_ && w > 0 && h > 0) {
+  if (!history_[previous_].same_size(w, h)) {
+    have_previous_ = false;
+    for (int b = 0; b < 2; ++b) {
+      history_[b].resize(ctx_.context(), w, h);
+      depth_[b].resize(ctx_.context(), w, h);
+    }
+  }
+  if (w > 0 && h > 0) {
     Pose T_prev_curr;  // identity without both poses
-    if (T_world_camera && previous_pose_) T_prev_curr = previous_pose_->inverse() * *T_world_camera;
+    if (have_previous_ && T_world_camera && previous_pose_)
+      T_prev_curr = previous_pose_->inverse() * *T_world_camera;
     MotionArg m{};
     const Eigen::Matrix3d r = T_prev_curr.rotation.toRotationMatrix();
     for (int i = 0; i < 9; ++i)
@@ -63,25 +66,32 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
     m.colour_range = params_.colour_range;
     m.depth_tol_mm = params_.depth_tolerance_mm;
     m.depth_tol_rel = params_.depth_tolerance_rel;
+    m.snap = params_.snap;
+    // Strips of rows, one work-item each: a few per compute unit so that a strip with more of
+    // the object does not leave the other units idle.
+    const int strips = std::min(h, 8 * std::max(1, static_cast<int>(ctx_.info().compute_units)));
+    const int strip_rows = (h + strips - 1) / strips;
+    const int groups = (h + strip_rows - 1) / strip_rows;
+    const int next = 1 - previous_;
     int a = 0;
     kernel_.setArg(a++, alpha.buffer());
     kernel_.setArg(a++, in.colour->buffer());
     kernel_.setArg(a++, in.real_depth_mm->buffer());
     kernel_.setArg(a++, in.virtual_depth_mm->buffer());
-    kernel_.setArg(a++, prev_alpha_.buffer());
-    kernel_.setArg(a++, prev_colour_.buffer());
-    kernel_.setArg(a++, prev_depth_.buffer());
-    kernel_.setArg(a++, prev_virtual_.buffer());
+    kernel_.setArg(a++, history_[previous_].buffer());
+    kernel_.setArg(a++, depth_[previous_].buffer());
+    kernel_.setArg(a++, history_[next].buffer());
+    kernel_.setArg(a++, depth_[next].buffer());
     kernel_.setArg(a++, w);
     kernel_.setArg(a++, h);
+    kernel_.setArg(a++, strip_rows);
+    kernel_.setArg(a++, have_previous_ ? 1 : 0);
     kernel_.setArg(a++, sizeof(m), &m);
-    ctx_.run_2d(kernel_, w, h);
+    ctx_.queue().enqueueNDRangeKernel(kernel_, ::cl::NullRange,
+                                      ::cl::NDRange(1, static_cast<std::size_t>(groups)),
+                                      ::cl::NDRange(1, 1));
+    previous_ = next;  // this frame becomes the previous one
   }
-  // This frame becomes the previous one: its inputs and its stabilised matte.
-  copy_image(ctx_, alpha, prev_alpha_);
-  copy_image(ctx_, *in.colour, prev_colour_);
-  copy_image(ctx_, *in.real_depth_mm, prev_depth_);
-  copy_image(ctx_, *in.virtual_depth_mm, prev_virtual_);
   previous_pose_ = T_world_camera;
   have_previous_ = true;
 }

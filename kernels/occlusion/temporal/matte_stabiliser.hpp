@@ -1,9 +1,10 @@
 #pragma once
 // The temporal stabilisation stage (matte_stabiliser.cl; params and the idea in
 // matte_stabiliser_params.hpp; docs/occlusion.md "Temporal stabilisation"). It keeps the
-// previous frame's colour, depths and stabilised matte on the device; process() blends the
-// current matte in place and then remembers this frame. The first frame, and the first after
-// reset(), passes through unchanged.
+// previous frame's colour, real depth, on-object flags and stabilised matte on the device (the
+// kernel's own output, two buffers used in turn); process() blends the current matte in place
+// and remembers this frame. The first frame, and the first after reset(), passes through
+// unchanged.
 #include <optional>
 
 #include "kernels/occlusion/common/occlusion_method.hpp"
@@ -32,9 +33,11 @@ class MatteStabiliser {
   ::cl::Kernel kernel_;
   bool have_previous_ = false;
   std::optional<Pose> previous_pose_;
-  DeviceImage<std::uint8_t, 3> prev_colour_;
-  DeviceImage<std::uint16_t, 1> prev_depth_;
-  DeviceImage<float, 1> prev_virtual_, prev_alpha_;
+  // Per pixel: the stabilised matte's bits | (r, g, b, on-object) << 32 (matte_stabiliser.cl),
+  // and the real depth. [previous_] holds the previous frame, the other one is written.
+  DeviceImage<std::uint64_t, 1> history_[2];
+  DeviceImage<std::uint16_t, 1> depth_[2];
+  int previous_ = 0;
 };
 
 }  // namespace probeless::occlusion

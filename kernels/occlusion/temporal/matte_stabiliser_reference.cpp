@@ -74,7 +74,10 @@ ImageF stabilise_matte_reference(const ImageF& alpha, const StabiliserFrame& cur
       const float q = dist / (p.colour_range * p.colour_range);
       if (!(q < 1.0f)) continue;
       const float h = p.history_weight * (1.0f - q);
-      out.at(x, y) = (1.0f - h) * a + h * (sa / sw);
+      float blended = (1.0f - h) * a + h * (sa / sw);
+      if (blended < p.snap) blended = 0.0f;
+      if (blended > 1.0f - p.snap) blended = 1.0f;
+      out.at(x, y) = blended;
     }
   return out;
 }

@@ -31,11 +31,12 @@ struct HostFrame {
 };
 
 // Random frame: smooth colour (so small motions keep it alike), depth 800-1200 mm with 10 %
-// holes, the virtual object on 80 % of the pixels, a random matte.
-HostFrame random_frame(int w, int h, std::mt19937& rng) {
+// holes, the virtual object on 80 % of the pixels, a random matte. The colour's pattern is
+// shifted by a random phase unless one is given.
+HostFrame random_frame(int w, int h, std::mt19937& rng, std::optional<float> pattern = {}) {
   std::uniform_real_distribution<float> u(0.f, 1.f);
   HostFrame f{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h), ImageF(w, h)};
-  const float phase = 6.f * u(rng);
+  const float phase = pattern ? *pattern : 6.f * u(rng);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       for (int c = 0; c < 3; ++c)
@@ -103,11 +104,114 @@ TEST(MatteStabiliser, DeviceMatchesTheReference) {
   }
 }
 
+TEST(MatteStabiliser, DeviceMatchesTheReferenceOverASequence) {
+  // The device keeps its history as its own output in two buffers used in turn: over several
+  // frames, a reset and a change of size it follows the reference fed its own results. 97
+  // columns: six full vectors of 16 and a tail of one.
+  auto& ctx = cl_context();
+  std::mt19937 rng(11);
+  const StabiliserParams params{0.6f, 0.8f, 200.f, 0.1f};
+  MatteStabiliser stab(ctx, params);
+  struct Step {
+    int w, h;
+    bool reset;
+  };
+  const Step steps[] = {{97, 61, false}, {97, 61, false}, {97, 61, false}, {97, 61, true},
+                        {97, 61, false}, {50, 40, false}, {50, 40, false}, {50, 40, false}};
+  std::optional<HostFrame> prev;
+  ImageF prev_out;
+  Pose prev_pose;
+  int stabilised = 0;
+  for (const Step& step : steps) {
+    const HostFrame f = random_frame(step.w, step.h, rng, 1.f);  // one pattern: frames alike
+    const PinholeIntrinsics k{step.w,
+                              step.h,
+                              0.8 * step.w + 20,
+                              0.8 * step.w + 20,
+                              0.5 * (step.w - 1),
+                              0.5 * (step.h - 1)};
+    const Pose pose = small_motion(rng);
+    if (step.reset) {
+      stab.reset();
+      prev.reset();
+    }
+    if (prev && prev->alpha.width() != step.w) prev.reset();
+    DeviceImageRGB8 colour(ctx, f.colour);
+    DeviceDepthImage depth(ctx, f.depth);
+    DeviceImageF virt(ctx, f.virt), alpha(ctx, f.alpha);
+    stab.process({&colour, &depth, &virt}, k, pose, alpha);
+    const ImageF got = alpha.download(ctx.queue());
+    const ImageF want = prev ? stabilise_matte_reference(f.alpha, f.view(), prev_out, prev->view(),
+                                                         {k, prev_pose.inverse() * pose}, params)
+                             : f.alpha;
+    std::size_t off = 0, blended = 0;
+    for (std::size_t i = 0; i < got.pixel_count(); ++i) {
+      off += std::fabs(got.data()[i] - want.data()[i]) > 1e-5f;
+      blended += want.data()[i] != f.alpha.data()[i];
+    }
+    // As above (on PoCL none is off).
+    EXPECT_LE(off, got.pixel_count() / 1000)
+        << "frame " << stabilised << ", " << step.w << "x" << step.h;
+    if (prev) {
+      EXPECT_GT(blended, got.pixel_count() / 10) << "the test exercises blending";
+      ++stabilised;
+    } else {
+      EXPECT_EQ(blended, 0u) << "a first frame passes through";
+    }
+    prev = f;
+    prev_out = want;
+    prev_pose = pose;
+  }
+  EXPECT_EQ(stabilised, 5);
+}
+
+TEST(MatteStabiliser, ABlendWithinSnapOfZeroOrOneBecomesExact) {
+  // A still camera sees one flat grey frame twice (the history's weight is then 0.6): the matte
+  // 1 then 0.999 blends to 0.9994, which becomes 1; 0 then 0.001 to 0.0004, which becomes 0;
+  // 0.99 and 0.01 (0.996, 0.004) stay; with snap 0 nothing snaps. Columns in blocks of 4 of
+  // one value (the taps of a still camera may lean a rounding error into the neighbours).
+  const float prev_values[4] = {1.f, 1.f, 0.f, 0.f}, cur_values[4] = {0.999f, 0.99f, 0.001f, 0.01f};
+  const int w = 64, h = 8;
+  const PinholeIntrinsics k{w, h, 60, 60, 31.5, 3.5};
+  auto frame = [&](const float* values) {
+    HostFrame f{ImageRGB8(w, h), DepthImage(w, h), ImageF(w, h), ImageF(w, h)};
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        for (int c = 0; c < 3; ++c) f.colour.at(x, y, c) = 128;
+        f.depth.at(x, y) = 1000;
+        f.virt.at(x, y) = 800.f;
+        f.alpha.at(x, y) = values[(x / 4) % 4];
+      }
+    return f;
+  };
+  const HostFrame prev = frame(prev_values), cur = frame(cur_values);
+  for (const float snap : {1.f / 512.f, 0.f}) {
+    StabiliserParams params;
+    params.snap = snap;
+    const ImageF got = device_two_frames(prev, cur, k, Pose{}, Pose{}, params);
+    const ImageF want = stabilise_matte_reference(cur.alpha, cur.view(), prev.alpha, prev.view(),
+                                                  {k, Pose{}}, params);
+    for (int y = 1; y < h - 1; ++y)
+      for (int x = 1; x < w - 1; ++x) {
+        if (x % 4 == 0 || x % 4 == 3) continue;
+        const float cur_a = cur.alpha.at(x, y), prev_a = prev.alpha.at(x, y);
+        const float blended = 0.4f * cur_a + 0.6f * prev_a;
+        const bool snaps = snap > 0 && (blended < snap || blended > 1.f - snap);
+        const float expected = snaps ? std::round(blended) : blended;
+        ASSERT_NEAR(got.at(x, y), expected, 1e-5f) << "snap " << snap << " at " << x << ", " << y;
+        ASSERT_EQ(got.at(x, y) == 0.f || got.at(x, y) == 1.f, snaps) << x << ", " << y;
+        ASSERT_NEAR(want.at(x, y), got.at(x, y), 1e-6f) << "the reference, " << x << ", " << y;
+      }
+  }
+}
+
 TEST(MatteStabiliser, BadInputsAreClearErrors) {
   auto& ctx = cl_context();
   EXPECT_THROW(MatteStabiliser(ctx, {1.0f, 0.1f, 15.f, 0.02f}), std::invalid_argument);
   EXPECT_THROW(MatteStabiliser(ctx, {0.5f, 0.0f, 15.f, 0.02f}), std::invalid_argument);
   EXPECT_THROW(MatteStabiliser(ctx, {0.5f, 0.1f, -1.f, 0.02f}), std::invalid_argument);
+  EXPECT_THROW(MatteStabiliser(ctx, {0.5f, 0.1f, 15.f, 0.02f, 0.5f}), std::invalid_argument);
+  EXPECT_THROW(MatteStabiliser(ctx, {0.5f, 0.1f, 15.f, 0.02f, -0.01f}), std::invalid_argument);
   MatteStabiliser stab(ctx);
   DeviceImageRGB8 colour(ctx, 8, 8);
   DeviceDepthImage depth(ctx, 8, 8), small_depth(ctx, 4, 8);
