@@ -47,6 +47,7 @@ class Openni2RgbdSource final : public RgbdSource {
   bool no_device(const std::string& why);  // false, for try_open
   void lose_device(const std::string& why);
   void on_stall(TimestampNs now);
+  void reopen_now(const std::string& why);  // a stall's remedy: fresh streams at once
   TimestampNs to_monotonic(std::uint64_t device_us);
 
   Openni2Options options_;
@@ -69,7 +70,8 @@ class Openni2RgbdSource final : public RgbdSource {
   bool take_pair(RgbdFrame& frame);
 
   ReopenClock reopen_{options_.reopen_ms};
-  TimestampNs last_frame_ns_ = 0;  // monotonic, for "stalled"
+  TimestampNs last_frame_ns_ = 0;    // monotonic, for "stalled"
+  TimestampNs last_arrival_ns_ = 0;  // the last frame of either stream, paired or not
   bool stall_handled_ = false;
   std::uint64_t sequence_ = 0;
   // Device time -> CLOCK_MONOTONIC: anchored at the first frame after an open.
