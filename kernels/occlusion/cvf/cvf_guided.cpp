@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "kernels/occlusion/common/vector16_cl.hpp"
 #include "kernels/occlusion/cvf/cvf_guided_cl.hpp"
 #include "kernels/occlusion/cvf/cvf_vector_cl.hpp"
 
@@ -17,8 +18,9 @@ StripGuidedFilter::StripGuidedFilter(ComputeContext& ctx, int radius, float eps,
         fmt::format("StripGuidedFilter: radius {} outside 0..{}", radius, kMaxRadius));
   const auto opts = fmt::format("-DRADIUS={} -DINPUT_MODE={} -DOUTPUT_MODE={} -DTRACE={} {}",
                                 radius, int(input), int(output), trace ? 1 : 0, extra_options);
-  static const std::string source =
-      std::string(cl_source::cvf_vector) + std::string(cl_source::cvf_guided);
+  static const std::string source = std::string(cl_source::vector16) +
+                                    std::string(cl_source::cvf_vector) +
+                                    std::string(cl_source::cvf_guided);
   kernel_ = ctx.kernel("cvf_guided", source, opts, "gf_strip");
   row_object_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_ONLY, sizeof(cl_int));
 }

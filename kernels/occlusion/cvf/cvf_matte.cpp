@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "kernels/occlusion/common/cvf_kernel_args.hpp"
+#include "kernels/occlusion/common/vector16_cl.hpp"
 #include "kernels/occlusion/cvf/cvf_cl.hpp"
 #include "kernels/occlusion/cvf/cvf_local_histogram_cl.hpp"
 #include "kernels/occlusion/cvf/cvf_tiles_cl.hpp"
@@ -111,8 +112,9 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
   feather_.emplace(ctx, params.feather.radius, params.feather.eps,
                    StripGuidedFilter::Input::CvfFeather,
                    StripGuidedFilter::Output::VisibilityFromCost, options, trace);
-  static const std::string source =
-      std::string(cl_source::cvf_vector) + std::string(cl_source::cvf);
+  static const std::string source = std::string(cl_source::vector16) +
+                                    std::string(cl_source::cvf_vector) +
+                                    std::string(cl_source::cvf);
   classify_ = ctx.kernel(
       "cvf", source,
       fmt::format("{} -DEROSION={} -DBAND={}{}", options, std::max(0, params.categorise.erosion_px),

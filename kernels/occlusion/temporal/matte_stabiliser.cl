@@ -25,43 +25,10 @@ typedef struct {
   float history_weight, colour_range, depth_tol_mm, depth_tol_rel, snap;
 } Motion;
 
-// The vector helpers of cvf_vector.cl that this kernel uses, copied so that the stage does not
-// depend on a method's directory (docs/architecture.md): unaligned vector loads and stores
-// through types with the element's alignment (one vector move each on PoCL), and 16
-// interleaved RGB8 pixels as three float vectors.
-#define VW 16
-typedef float16 vf;
-typedef int16 vi;
-typedef float16 __attribute__((aligned(4))) vf_unaligned;
-typedef uchar16 __attribute__((aligned(1))) uc16_unaligned;
-typedef ushort16 __attribute__((aligned(2))) us16_unaligned;
+// The shared vector helpers (common/vector16.cl) are prepended by the host; the history's
+// 8-byte texels are stored 16 at a time through this type.
 typedef ulong16 __attribute__((aligned(8))) ul16_unaligned;
-#define LOADF(p) (*(__global const vf_unaligned*)(p))
-#define STOREF(p, v) (*(__global vf_unaligned*)(p) = (v))
-#define LOADU8(p) (*(__global const uc16_unaligned*)(p))
-#define LOADU16(p) (*(__global const us16_unaligned*)(p))
-#define STOREU16(p, v) (*(__global us16_unaligned*)(p) = (v))
 #define STOREHIST(p, v) (*(__global ul16_unaligned*)(p) = (v))
-
-inline vi lanes(void) {
-  return (vi)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-}
-
-inline void load_rgb16(__global const uchar* p, vf* r, vf* g, vf* b) {
-  const uchar16 a = LOADU8(p), m = LOADU8(p + 16), c = LOADU8(p + 32);
-  const uchar16 ra =
-      __builtin_shufflevector(a, m, 0, 3, 6, 9, 12, 15, 18, 21, 24, 27, 30, 0, 0, 0, 0, 0);
-  const uchar16 ga =
-      __builtin_shufflevector(a, m, 1, 4, 7, 10, 13, 16, 19, 22, 25, 28, 31, 0, 0, 0, 0, 0);
-  const uchar16 ba =
-      __builtin_shufflevector(a, m, 2, 5, 8, 11, 14, 17, 20, 23, 26, 29, 0, 0, 0, 0, 0, 0);
-  *r = convert_float16(
-      __builtin_shufflevector(ra, c, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 17, 20, 23, 26, 29));
-  *g = convert_float16(
-      __builtin_shufflevector(ga, c, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 18, 21, 24, 27, 30));
-  *b = convert_float16(
-      __builtin_shufflevector(ba, c, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 16, 19, 22, 25, 28, 31));
-}
 
 #define ON_OBJECT (1u << 24)
 #define GATHER16(p, i)                                                                      \

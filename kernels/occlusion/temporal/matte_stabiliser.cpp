@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <stdexcept>
+#include <string>
 
+#include "kernels/occlusion/common/vector16_cl.hpp"
 #include "kernels/occlusion/temporal/matte_stabiliser_cl.hpp"
 
 namespace probeless::occlusion {
@@ -18,12 +20,18 @@ struct MotionArg {
 };
 static_assert(sizeof(MotionArg) == 21 * sizeof(cl_float));
 
+const std::string& stabiliser_source() {
+  static const std::string source =
+      std::string(cl_source::vector16) + std::string(cl_source::matte_stabiliser);
+  return source;
+}
+
 }  // namespace
 
 MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
     : ctx_(ctx),
       params_(params),
-      kernel_(ctx.kernel("matte_stabiliser", cl_source::matte_stabiliser, "", "stabilise_matte")) {
+      kernel_(ctx.kernel("matte_stabiliser", stabiliser_source(), "", "stabilise_matte")) {
   if (!(params.history_weight >= 0.f && params.history_weight < 1.f))
     throw std::invalid_argument("matte stabiliser: history_weight must lie in [0, 1)");
   if (!(params.colour_range > 0.f))
