@@ -31,6 +31,16 @@ if [[ ${1:-} == --in-guest ]]; then
   sed "s|^ExecStart=/usr/bin/probeless|ExecStart=$binary|" "$src/probeless.service" \
     >/etc/systemd/system/probeless.service
   cp "$src/probeless.socket" /etc/systemd/system/
+  # A checkout under /tmp: the unit's PrivateTmp=yes hides the build's binary and the source
+  # tree from the service (203/EXEC, all checks failed from a clone in /tmp). Bind them back
+  # read-only, which systemd applies over the private /tmp; the shipped unit is unchanged.
+  for path in "$(dirname "$binary")" "$(dirname "$src")"; do
+    if [[ $path == /tmp/* ]]; then
+      mkdir -p /etc/systemd/system/probeless.service.d
+      printf '[Service]\nBindReadOnlyPaths=%s\n' "$path" \
+        >>/etc/systemd/system/probeless.service.d/checkout-under-tmp.conf
+    fi
+  done
   config() {  # config [EXTRA TOML...]
     { cat "$src/probeless.toml"
       printf '[source]\nrig = "openni2:Dummy?size=320x240&hotplug=0"\n'
