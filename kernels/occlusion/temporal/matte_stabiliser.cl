@@ -31,7 +31,7 @@ typedef ulong16 __attribute__((aligned(8))) ul16_unaligned;
 #define STOREHIST(p, v) (*(__global ul16_unaligned*)(p) = (v))
 
 #define ON_OBJECT (1u << 24)
-#define GATHER16(p, i)                                                                      \
+#define GATHER16(p, i)                                                                     \
   (p[(i).s0], p[(i).s1], p[(i).s2], p[(i).s3], p[(i).s4], p[(i).s5], p[(i).s6], p[(i).s7], \
    p[(i).s8], p[(i).s9], p[(i).sa], p[(i).sb], p[(i).sc], p[(i).sd], p[(i).se], p[(i).sf])
 
@@ -49,9 +49,9 @@ inline void tap(ulong16 texel, vf wt, vf* sw, vf* sa, vf* sr, vf* sg, vf* sb, vi
 }
 
 // The stabilised matte of 16 pixels from (x0, y); `on`: lanes on the object (and in the row).
-inline vf stabilise16(int x0, int y, int width, int height, vf a, vf v, vi on, vf dz, vf r,
-                      vf g, vf b, __global const ulong* prev_hist,
-                      __global const ushort* prev_depth, const Motion* m) {
+inline vf stabilise16(int x0, int y, int width, int height, vf a, vf v, vi on, vf dz, vf r, vf g,
+                      vf b, __global const ulong* prev_hist, __global const ushort* prev_depth,
+                      const Motion* m) {
   const vf xf = convert_float16(x0 + lanes());
   const vi has_d = dz > 0.0f;
   const vf z = select(v, dz, has_d);
@@ -111,9 +111,8 @@ inline ulong16 texels(vf alpha, vf r, vf g, vf b, vi on) {
 __kernel void stabilise_matte(__global float* alpha, __global const uchar* colour,
                               __global const ushort* real_depth, __global const float* virt,
                               __global const ulong* prev_hist, __global const ushort* prev_depth,
-                              __global ulong* next_hist, __global ushort* next_depth,
-                              int width, int height, int strip_rows, int have_previous,
-                              Motion m) {
+                              __global ulong* next_hist, __global ushort* next_depth, int width,
+                              int height, int strip_rows, int have_previous, Motion m) {
   const int y_begin = (int)get_global_id(1) * strip_rows;
   const int y_end = min(y_begin + strip_rows, height);
   for (int y = y_begin; y < y_end; ++y) {
