@@ -7,15 +7,17 @@ namespace probeless {
 
 bool HeapTrimmer::maybe_trim() {
   const auto now = std::chrono::steady_clock::now();
-  if (!first_ && now - last_ < every_) return false;
-  first_ = false;
+  if (last_ && now - *last_ < every_) return false;
   last_ = now;
-  const std::size_t free_before = heap_free_bytes();
+  // mallinfo2 walks every arena under its lock: only when someone reads the figure.
+  const bool logged = spdlog::should_log(spdlog::level::debug);
+  const std::size_t free_before = logged ? heap_free_bytes() : 0;
   malloc_trim(0);
   ++trims_;
-  spdlog::debug(
-      "heap trim: {:.1f} MB free in the heap, {:.1f} ms", double(free_before) / 1e6,
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - now).count());
+  if (logged)
+    spdlog::debug(
+        "heap trim: {:.1f} MB free in the heap, {:.1f} ms", double(free_before) / 1e6,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - now).count());
   return true;
 }
 

@@ -10,6 +10,7 @@
 // the whole free pages inside the heaps too (madvise), at a few ms every few seconds.
 #include <chrono>
 #include <cstddef>
+#include <optional>
 
 namespace probeless {
 
@@ -23,8 +24,7 @@ class HeapTrimmer {
 
  private:
   std::chrono::seconds every_;
-  std::chrono::steady_clock::time_point last_{};
-  bool first_ = true;
+  std::optional<std::chrono::steady_clock::time_point> last_;  // none: the next call trims
   std::size_t trims_ = 0;
 };
 

@@ -61,8 +61,7 @@ double wait_until_steady(const lab::ServiceUnderTest& service, double timeout_s)
     std::this_thread::sleep_for(std::chrono::seconds(5));
     rss.push_back(service.sample().rss_mb);
     if (rss.size() >= 3) {
-      const auto last3 = std::vector<double>(rss.end() - 3, rss.end());
-      const auto [lo, hi] = std::minmax_element(last3.begin(), last3.end());
+      const auto [lo, hi] = std::minmax_element(rss.end() - 3, rss.end());
       if (*hi <= *lo * 1.02) break;
     }
   }
