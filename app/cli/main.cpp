@@ -6,8 +6,10 @@
 #include "app/cli/command_line.hpp"
 #include "app/cli/commands.hpp"
 #include "app/cli/lab_dispatch.hpp"
+#include "app/service/crash_report.hpp"
 
 int main(int argc, char** argv) {
+  probeless::install_crash_report("probeless");
   if (const auto lab = probeless::cli::lab_command(argc, argv)) {
     const std::string why = probeless::cli::exec_lab(argv, *lab);  // returns only on failure
     spdlog::error("{}", why);
