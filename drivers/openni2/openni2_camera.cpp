@@ -4,8 +4,11 @@
 
 #include <algorithm>
 #include <cstring>
+#include <deque>
 #include <filesystem>
+#include <mutex>
 #include <thread>
+#include <vector>
 
 namespace probeless::openni2 {
 
@@ -18,11 +21,53 @@ struct Openni2Camera::Handles {
 
 namespace {
 
-// Between stopping and destroying streams. The Dummy driver's streams run a thread that
-// polls a flag every 33 ms and is never joined: destroying a stream right after stop() lets
-// it write into freed memory (a crash we met in the tests); two of its periods let it see
-// the flag. Recordings: see close().
+// Between stopping and destroying a recording's streams: see close().
 constexpr auto kStopGrace = std::chrono::milliseconds(80);
+
+// The Dummy driver's streams (OpenNI2's DummyDevice, class OzStream) each run a thread that is
+// never joined: stop() only clears a flag the thread reads every 33 ms, and a thread that
+// starts late sets it again. Destroying a stream frees what that thread still reads. An 80 ms
+// grace after stop() covered an idle host but not a starved one: `probeless run` in the VM
+// beside a loaded host (TCG) died of SIGSEGV once in about a dozen board checks, after the
+// source reopened the device at start-up. So a closed Dummy device is parked, streams, device
+// and runtime together, and destroyed only after kParkFor (300 of the driver's periods), at a
+// later close. What is parked at exit is left to the process's end, so OpenNI is never shut
+// down (its drivers unloaded) under a thread of theirs that may still run.
+constexpr auto kParkFor = std::chrono::seconds(10);
+
+class ParkedDummies {
+ public:
+  static ParkedDummies& instance() {
+    static auto* parked = new ParkedDummies;  // never destroyed: see kParkFor
+    return *parked;
+  }
+  // `handles` keeps the runtime's reference beside it, and goes before it.
+  void park(std::shared_ptr<OpenniRuntime> runtime, std::shared_ptr<void> handles) {
+    const auto now = std::chrono::steady_clock::now();
+    std::vector<Entry> due;
+    {
+      std::lock_guard lock(mutex_);
+      while (!parked_.empty() && now - parked_.front().since >= kParkFor) {
+        due.push_back(std::move(parked_.front()));
+        parked_.pop_front();
+      }
+      parked_.push_back({now, std::move(runtime), std::move(handles)});
+    }
+  }  // `due` destroyed here, outside the lock
+  std::size_t size() const {
+    std::lock_guard lock(mutex_);
+    return parked_.size();
+  }
+
+ private:
+  struct Entry {
+    std::chrono::steady_clock::time_point since;
+    std::shared_ptr<OpenniRuntime> runtime;  // declared first: outlives the handles
+    std::shared_ptr<void> handles;
+  };
+  mutable std::mutex mutex_;
+  std::deque<Entry> parked_;
+};
 
 bool is_dummy_uri(const std::string& uri) {
   return uri == "Dummy" || uri == "Oz" || uri == "PingPong";
@@ -187,12 +232,21 @@ void Openni2Camera::close() {
     if (openni::PlaybackControl* playback = handles_->device.getPlaybackControl())
       playback->setSpeed(-1.0f);
   }
+  if (!handles_) return;  // parked by an earlier close()
   handles_->colour.stop();
   handles_->depth.stop();
-  if (info_.is_file || is_dummy_uri(info_.uri)) std::this_thread::sleep_for(kStopGrace);
+  if (is_dummy_uri(info_.uri)) {
+    ParkedDummies::instance().park(runtime_, std::shared_ptr<Handles>(std::move(handles_)));
+    return;
+  }
+  if (info_.is_file) std::this_thread::sleep_for(kStopGrace);
   handles_->colour.destroy();
   handles_->depth.destroy();
   handles_->device.close();
+}
+
+std::size_t parked_dummy_devices() {
+  return ParkedDummies::instance().size();
 }
 
 void Openni2Camera::disable_sync() {

@@ -64,12 +64,16 @@ class Openni2Camera {
  private:
   struct Handles;
   void configure_streams(const Openni2Options& options);
-  void close();  // safe twice: OpenNI's handles ignore a second stop/destroy/close
+  void close();  // safe twice; a Dummy device's handles are parked (openni2_camera.cpp)
   std::shared_ptr<OpenniRuntime> runtime_;  // first member: OpenNI outlives the handles
   std::unique_ptr<Handles> handles_;
   CameraInfo info_;
   bool repeat_ = false;
   int last_colour_index_ = 0, last_depth_index_ = 0;
 };
+
+// Closed Dummy devices whose streams are kept until their never-joined driver threads have
+// surely seen the stop (openni2_camera.cpp, kParkFor).
+std::size_t parked_dummy_devices();
 
 }  // namespace probeless::openni2

@@ -118,6 +118,8 @@ BOARD
   wait $pid && code=0 || code=$?
   check "SIGTERM stops it cleanly (exit $code)" test "$code" = 0
   if ((failed > 0)); then cat "$work/run.log"; fi
+  # The source's recoveries (stalls, reopens) beside a loaded host, for the log.
+  grep -E "stall|reopen" "$work/run.log" | sed 's/^/VM: run.log: /' | head -5 || true
 
   # 2. The board's calibration file missing: named, before anything streams.
   board "$work/no-such-calibration.toml"
