@@ -129,8 +129,7 @@ struct DenseTracker::Impl {
 
   NormalSums sums(Keyframe& kf, int level, const IterationParams& p) {
     if (device) return device->accumulate(kf, level, p);
-    return accumulate_reference(kf.points[std::size_t(level)], current.levels[std::size_t(level)],
-                                p);
+    return accumulate_cpu(kf.points[std::size_t(level)], current.levels[std::size_t(level)], p);
   }
 
   bool beyond_keyframe(const Pose& T_keyframe_camera) const {

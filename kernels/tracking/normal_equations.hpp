@@ -56,4 +56,9 @@ using NormalSums = std::array<double, kSumCount>;
 NormalSums accumulate_reference(const std::vector<TrackPoint>& points, const FrameLevel& frame,
                                 const IterationParams& params);
 
+// The CPU path the tracker runs (normal_equations_cpu.cpp): the same sums, four points at a
+// time in vector registers; equal to the reference to float rounding (the tests' bound).
+NormalSums accumulate_cpu(const std::vector<TrackPoint>& points, const FrameLevel& frame,
+                          const IterationParams& params);
+
 }  // namespace probeless::tracking

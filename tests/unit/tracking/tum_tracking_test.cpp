@@ -22,7 +22,7 @@ TEST(DenseTrackerTum, TracksFr1RpyWithoutLossBelowTheAteBound) {
   ASSERT_EQ(frames.size(), 150u);
   DenseTracker tracker(nullptr, testing::tum_fr1_camera(), testing::tum_params());
   const auto run = testing::run_tum(tracker, frames);
-  testing::print_tum_run("CPU reference", frames.size(), run);
+  testing::print_tum_run("CPU path", frames.size(), run);
   EXPECT_EQ(run.lost, 0);
   EXPECT_LT(run.ate_m, kAteBoundM);
   EXPECT_GT(run.keyframes, 1);  // rpy turns by tens of degrees: keyframes must switch
