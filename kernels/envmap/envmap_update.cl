@@ -74,6 +74,53 @@ INLINE float16 polar_angle(float16 r, float16 z) {
   return select(a, M_PI_F - a, z < 0.0f);
 }
 
+// Whether no texel x0 .. x0 + 15 of `row` can be in the fisheye's table: the group's texel
+// directions lie on a straight segment d(s) = base + s e of a cube face (e a unit axis
+// orthogonal to base, as cube_directions), so the cosine of their angle to the optical axis,
+// (alpha + beta s) / sqrt(gamma + s^2), has one extremum, at s = beta gamma / alpha: its
+// largest value over the group is at an end or there. `cos_limit` is the cosine of the table's
+// max_theta widened by the parallax's bound and a margin (EnvmapUpdate::cull_cos); below -1 it
+// never culls. Conservative: a group it keeps may be unseen; one it culls has no lane in the
+// table. About half the cube lies below an upward fisheye's horizon; those groups skipped the
+// image loads but still paid the directions and the table reads before (issue #19's budget).
+INLINE bool group_hidden(int n, int row, int x0, float4 axis, float cos_limit) {
+  if (cos_limit < -1.0f) return false;
+  const int face = row / n, y = row - face * n;
+  const float inv_n = 1.0f / (float)n;
+  const float t = 2.0f * (((float)y + 0.5f) * inv_n) - 1.0f;
+  const float s0 = 2.0f * (((float)x0 + 0.5f) * inv_n) - 1.0f;
+  const float s1 = 2.0f * (((float)min(x0 + LANES - 1, n - 1) + 0.5f) * inv_n) - 1.0f;
+  float3 base, e;
+  switch (face) {
+    case 0:
+      base = (float3)(1.0f, -t, 0.0f), e = (float3)(0.0f, 0.0f, -1.0f);
+      break;
+    case 1:
+      base = (float3)(-1.0f, -t, 0.0f), e = (float3)(0.0f, 0.0f, 1.0f);
+      break;
+    case 2:
+      base = (float3)(0.0f, 1.0f, t), e = (float3)(1.0f, 0.0f, 0.0f);
+      break;
+    case 3:
+      base = (float3)(0.0f, -1.0f, -t), e = (float3)(1.0f, 0.0f, 0.0f);
+      break;
+    case 4:
+      base = (float3)(0.0f, -t, 1.0f), e = (float3)(1.0f, 0.0f, 0.0f);
+      break;
+    default:
+      base = (float3)(0.0f, -t, -1.0f), e = (float3)(-1.0f, 0.0f, 0.0f);
+      break;
+  }
+  const float alpha = dot(axis.xyz, base), beta = dot(axis.xyz, e), gamma = dot(base, base);
+  float best = fmax((alpha + beta * s0) * rsqrt(gamma + s0 * s0),
+                    (alpha + beta * s1) * rsqrt(gamma + s1 * s1));
+  if (alpha != 0.0f) {
+    const float s = beta * gamma / alpha;
+    if (s > s0 && s < s1) best = fmax(best, (alpha + beta * s) * rsqrt(gamma + s * s));
+  }
+  return best < cos_limit;
+}
+
 // The geometry of the 16 texels x0 .. x0 + 15 of `row`: the top-left pixel of each bilinear
 // footprint (pixel centres on integers) and its weights. Returns the lanes the fisheye sees
 // (the four table cells around the direction valid, footprint inside the image, x < n); other
@@ -318,9 +365,12 @@ __kernel void envmap_update(__global float4* texels, __global float4* pending,
                             float4 r1, float4 r2, __global const float2* lut, int lut_size,
                             float lut_centre, float lut_scale, float lut_max_theta, int parallax,
                             float4 box_lo, float4 box_hi, float4 offset, int rule, int publish,
-                            float measurement_var, float process_var, float change_sigma2) {
+                            float measurement_var, float process_var, float change_sigma2,
+                            float cull_cos) {
   const int x0 = LANES * get_global_id(0), row = get_global_id(1);
   if (x0 >= n || row >= 6 * n) return;
+  // Kalman leaves unseen texels as they are; best-score must still publish them.
+  if (rule == RULE_KALMAN && group_hidden(n, row, x0, r2, cull_cos)) return;
   int16 px, py;
   float16 ax, ay;
   int16 ok = footprints(n, row, x0, r0, r1, r2, lut, lut_size, lut_centre, lut_scale, lut_max_theta,
@@ -364,9 +414,12 @@ __kernel void envmap_update_raw(__global float4* texels, __global float4* pendin
                                 __global const float2* lut, int lut_size, float lut_centre,
                                 float lut_scale, float lut_max_theta, int parallax, float4 box_lo,
                                 float4 box_hi, float4 offset, int rule, int publish,
-                                float measurement_var, float process_var, float change_sigma2) {
+                                float measurement_var, float process_var, float change_sigma2,
+                                float cull_cos) {
   const int x0 = LANES * get_global_id(0), row = get_global_id(1);
   if (x0 >= n || row >= 6 * n) return;
+  // Kalman leaves unseen texels as they are; best-score must still publish them.
+  if (rule == RULE_KALMAN && group_hidden(n, row, x0, r2, cull_cos)) return;
   int16 px, py;
   float16 ax, ay;
   int16 ok = footprints(n, row, x0, r0, r1, r2, lut, lut_size, lut_centre, lut_scale, lut_max_theta,

@@ -1,6 +1,7 @@
 #include "kernels/envmap/envmap_update.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -81,6 +82,21 @@ const ::cl::Buffer& EnvmapUpdate::device_lut(const FisheyeView& view) {
   return lut_device_.buffer();
 }
 
+// The cosine below which a group of texels is out of the fisheye's table (envmap_update.cl,
+// group_hidden): the table's max_theta, widened under parallax by the most the wall point can
+// be off the texel's direction as the fisheye sees it (the fisheye is |offset| from the
+// keyframe, every wall at least the nearest wall's distance away: asin(|offset| / that)), and
+// by 1e-3 rad for float rounding. -2 (never) when that reaches pi.
+float EnvmapUpdate::cull_cos(const FisheyeView& view, const ParallaxConstants& p) {
+  double limit = view.lut->max_theta + 1e-3;
+  if (p.enabled) {
+    const float nearest_wall = std::min((-p.lo).minCoeff(), p.hi.minCoeff());
+    const float off = p.offset.norm();
+    limit = off < nearest_wall ? limit + std::asin(off / nearest_wall) : 10.0;
+  }
+  return limit < M_PI ? static_cast<float>(std::cos(limit)) : -2.0F;
+}
+
 void EnvmapUpdate::set_view_args(::cl::Kernel& kernel, int a, int n, const FisheyeView& view,
                                  bool publish) {
   const Eigen::Matrix3f r = view.R_camera_world.cast<float>();
@@ -108,6 +124,7 @@ void EnvmapUpdate::set_view_args(::cl::Kernel& kernel, int a, int n, const Fishe
   kernel.setArg(a++, sigma2);
   kernel.setArg(a++, process2);
   kernel.setArg(a++, change2);
+  kernel.setArg(a++, cull_cos(view, p));
 }
 
 void EnvmapUpdate::update(const DeviceImage<float, 4>& image, const FisheyeView& view, bool publish,

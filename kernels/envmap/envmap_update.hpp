@@ -37,6 +37,7 @@ class EnvmapUpdate {
  private:
   // Sets the arguments from `first` on: texel geometry, camera, parallax and rule.
   void set_view_args(::cl::Kernel& kernel, int first, int n, const FisheyeView& view, bool publish);
+  static float cull_cos(const FisheyeView& view, const ParallaxConstants& p);
   static void check(const DeviceImage<float, 4>& texels, const DeviceImage<float, 4>& pending);
   static void check_frame(const FisheyeView& view, int width, int height);
   const ::cl::Buffer& device_lut(const FisheyeView& view);

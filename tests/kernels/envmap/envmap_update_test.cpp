@@ -83,6 +83,36 @@ TEST_P(EnvmapUpdateTest, ParallaxMatchesTheReference) {
   }
 }
 
+// The Kalman kernels skip groups of texels the fisheye cannot see before computing anything
+// (envmap_update.cl, group_hidden). From empty texels every texel the reference sees gets a
+// weight: the device must give weight to the same texels, with and without parallax (the
+// room widens the bound), on random fisheyes of random fields of view and orientations.
+TEST(EnvmapUpdateCull, KalmanSkipsOnlyTexelsTheFisheyeCannotSee) {
+  std::mt19937 rng(29);
+  UpdateParams params;
+  params.rule = UpdateRule::Kalman;
+  EnvmapUpdate stage(cl_context(), params);
+  const int n = 64, size = 256;
+  for (int trial = 0; trial < 24; ++trial) {
+    FisheyeView view = random_view(rng, size);
+    if (trial % 2 == 1) add_random_room(rng, view);
+    const ImageRGBAF image = random_image(rng, size, size);
+    ImageRGBAF want = make_texels(n), want_pending = make_texels(n);
+    const Texels got = device_update(stage, image, view, false, want, want_pending);
+    envmap_update_reference(image, view, params, false, want, want_pending);
+    int seen = 0, differ = 0;
+    for (int y = 0; y < 6 * n; ++y)
+      for (int x = 0; x < n; ++x) {
+        const bool a = got.texels.at(x, y, 3) > 0.0F, b = want.at(x, y, 3) > 0.0F;
+        seen += b;
+        differ += a != b;
+      }
+    EXPECT_GT(seen, 6 * n * n / 20) << "trial " << trial << ": the fisheye sees too little";
+    EXPECT_LT(seen, 6 * n * n) << "trial " << trial << ": nothing left to cull";
+    EXPECT_LE(differ, 2) << "trial " << trial << " of " << seen << " seen texels";
+  }
+}
+
 // The fused kernel converts the four raw pixels each texel reads as HdrConversion converts the
 // whole frame: on the device, update_raw equals convert + update bit for bit (one program,
 // contraction off), and the composed CPU references within float rounding.
