@@ -44,4 +44,10 @@ ExposureThresholds exposure_thresholds(int bit_depth, std::uint16_t black_level,
 ExposureStats count_exposure(const ImageRGB16& raw, int bit_depth, std::uint16_t black_level,
                              double read_noise_dn = 0.0, double full_scale_noise_dn = 0.0);
 
+// The same counts pixel by pixel: the plain statement of the rule, which count_exposure (eight
+// pixels at a time) must equal exactly (tests).
+ExposureStats count_exposure_per_pixel(const ImageRGB16& raw, int bit_depth,
+                                       std::uint16_t black_level, double read_noise_dn = 0.0,
+                                       double full_scale_noise_dn = 0.0);
+
 }  // namespace probeless
