@@ -2,28 +2,16 @@
 
 #include <cmath>
 
+#include "kernels/tracking/normal_equations_terms.hpp"
+
 namespace probeless::tracking {
 namespace {
 
+using detail::add_residual;
+using detail::bilinear;
+
 // Points are summed in float in chunks as the device's work-items do, the chunks in double.
 constexpr std::size_t kChunk = 64;
-
-void add_residual(float* s, const float* j, float r, float weight) {
-  int k = kH;
-  for (int a = 0; a < 6; ++a) {
-    const float wa = weight * j[a];
-    for (int b = a; b < 6; ++b) s[k++] += wa * j[b];
-    s[kG + a] += wa * r;
-  }
-}
-
-float bilinear(const ImageF& img, float u, float v) {
-  const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
-  const float fx = u - float(x0), fy = v - float(y0);
-  const float* r0 = img.row(y0) + x0;
-  const float* r1 = img.row(y0 + 1) + x0;
-  return (1.0f - fy) * ((1.0f - fx) * r0[0] + fx * r0[1]) + fy * ((1.0f - fx) * r1[0] + fx * r1[1]);
-}
 
 }  // namespace
 

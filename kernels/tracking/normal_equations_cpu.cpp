@@ -7,9 +7,13 @@
 #include <cstring>
 
 #include "kernels/tracking/normal_equations.hpp"
+#include "kernels/tracking/normal_equations_terms.hpp"
 
 namespace probeless::tracking {
 namespace {
+
+using detail::add_residual;
+using detail::bilinear;
 
 using V = float __attribute__((vector_size(16)));
 using M = int __attribute__((vector_size(16)));  // a comparison: -1 (true) or 0 per lane
@@ -66,23 +70,6 @@ Points load(const TrackPoint* const p[kLanes]) {
   return out;
 }
 enum Field { kX = 0, kY, kZ, kI, kNx, kNy, kNz, kHasNormal, kJPhoto, kJGeo = 14, kInvZ2 = 20 };
-
-void add_residual(V* s, const V* j, V r, V weight) {
-  int k = kH;
-  for (int a = 0; a < 6; ++a) {
-    const V wa = weight * j[a];
-    for (int b = a; b < 6; ++b) s[k++] += wa * j[b];
-    s[kG + a] += wa * r;
-  }
-}
-
-float bilinear(const ImageF& img, float u, float v) {
-  const int x0 = int(std::floor(u)), y0 = int(std::floor(v));
-  const float fx = u - float(x0), fy = v - float(y0);
-  const float* r0 = img.row(y0) + x0;
-  const float* r1 = img.row(y0 + 1) + x0;
-  return (1.0f - fy) * ((1.0f - fx) * r0[0] + fx * r0[1]) + fy * ((1.0f - fx) * r1[0] + fx * r1[1]);
-}
 
 }  // namespace
 

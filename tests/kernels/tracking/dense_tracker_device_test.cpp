@@ -10,6 +10,7 @@
 #include "kernels/tracking/normal_equations.hpp"
 #include "kernels/tracking/tracking_device.hpp"
 #include "support/cl_context.hpp"
+#include "unit/tracking/iteration_params.hpp"
 #include "unit/tracking/tum_frames.hpp"
 
 namespace probeless::tracking {
@@ -98,19 +99,9 @@ TEST(TrackingDevice, NormalEquationsMatchTheReferenceOnTumFrames) {
                           current);
   device.set_undistortion(map);
   device.build_pyramid(frames[11].colour, frames[11].depth_mm, camera.intrinsics(), params);
-  // A pose near the motion of the 11 frames, so that residuals of every kind occur.
-  const Eigen::Matrix3f R =
-      Eigen::AngleAxisf(0.03f, Eigen::Vector3f(0.2f, 1.0f, 0.1f).normalized()).toRotationMatrix();
   for (int level = 0; level < params.levels; ++level) {
-    const LevelCamera& c = keyframe.cameras[std::size_t(level)];
-    IterationParams p{};
-    for (int i = 0; i < 9; ++i) p.r[i] = R(i / 3, i % 3);
-    p.t[0] = 0.01f, p.t[1] = -0.005f, p.t[2] = 0.002f;
-    p.fx = c.fx, p.fy = c.fy, p.cx = c.cx, p.cy = c.cy;
-    p.inv_gain = 1.0f / 1.05f, p.bias = -3.0f;
-    p.inv_var_photo = 1.0f / 64.0f, p.inv_var_geo = 1.0f / 1e-4f, p.nu = 5.0f;
-    p.photo_inlier = 20.0f, p.geo_inlier = 0.04f, p.min_depth = 0.15f;
-    for (int i = 0; i < 3; ++i) p.readout_rotation[i] = kReadout[std::size_t(i)];
+    const IterationParams p =
+        testing::iteration_params_near_motion(keyframe.cameras[std::size_t(level)], kReadout);
     const NormalSums ref = accumulate_reference(keyframe.points[std::size_t(level)],
                                                 current.levels[std::size_t(level)], p);
     const NormalSums dev = device.accumulate(keyframe, level, p);

@@ -13,6 +13,7 @@
 #include "kernels/tracking/frame_pyramid.hpp"
 #include "kernels/tracking/keyframe.hpp"
 #include "kernels/tracking/normal_equations.hpp"
+#include "unit/tracking/iteration_params.hpp"
 #include "unit/tracking/synthetic_scene.hpp"
 #include "unit/tracking/tum_frames.hpp"
 
@@ -26,20 +27,10 @@ void expect_same_sums(const FramePyramid& key_pyramid, const FramePyramid& curre
                       const DenseTrackerParams& params, const std::array<float, 3>& readout) {
   const Keyframe keyframe =
       make_keyframe(key_pyramid, Pose::identity(), params.max_points_per_level, readout);
-  // A pose near the frames' motion, so that every kind of residual and outlier occurs.
-  const Eigen::Matrix3f R =
-      Eigen::AngleAxisf(0.03f, Eigen::Vector3f(0.2f, 1.0f, 0.1f).normalized()).toRotationMatrix();
   int odd_counts = 0;
   for (int level = 0; level < params.levels; ++level) {
-    const LevelCamera& c = keyframe.cameras[std::size_t(level)];
-    IterationParams p{};
-    for (int i = 0; i < 9; ++i) p.r[i] = R(i / 3, i % 3);
-    p.t[0] = 0.01f, p.t[1] = -0.005f, p.t[2] = 0.002f;
-    p.fx = c.fx, p.fy = c.fy, p.cx = c.cx, p.cy = c.cy;
-    p.inv_gain = 1.0f / 1.05f, p.bias = -3.0f;
-    p.inv_var_photo = 1.0f / 64.0f, p.inv_var_geo = 1.0f / 1e-4f, p.nu = 5.0f;
-    p.photo_inlier = 20.0f, p.geo_inlier = 0.04f, p.min_depth = 0.15f;
-    for (int i = 0; i < 3; ++i) p.readout_rotation[i] = readout[std::size_t(i)];
+    const IterationParams p =
+        testing::iteration_params_near_motion(keyframe.cameras[std::size_t(level)], readout);
     const auto& points = keyframe.points[std::size_t(level)];
     odd_counts += points.size() % 4 != 0;
     const NormalSums ref = accumulate_reference(points, current.levels[std::size_t(level)], p);
@@ -62,6 +53,17 @@ void expect_same_sums(const FramePyramid& key_pyramid, const FramePyramid& curre
   std::printf("levels with a point count not a multiple of 4: %d\n", odd_counts);
 }
 
+// fr1/rpy's frames 0 and 11 (the keyframe and a frame 0.37 s later) as pyramids.
+void tum_pair(const DenseTrackerParams& params, FramePyramid& key_pyramid, FramePyramid& current) {
+  const auto frames = testing::read_tum_frames(12);
+  const auto camera = testing::tum_fr1_camera();
+  const auto map = undistortion_map(camera, params.finest_level);
+  build_pyramid_reference(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params, map,
+                          key_pyramid);
+  build_pyramid_reference(frames[11].colour, frames[11].depth_mm, camera.intrinsics(), params, map,
+                          current);
+}
+
 TEST(AccumulateCpu, MatchesTheReferenceOnTheSyntheticRoom) {
   const PinholeIntrinsics camera{640, 480, 525.0, 525.0, 319.5, 239.5};
   const DenseTrackerParams params;
@@ -78,15 +80,9 @@ TEST(AccumulateCpu, MatchesTheReferenceOnTheSyntheticRoom) {
 
 TEST(AccumulateCpu, MatchesTheReferenceOnTumFrames) {
   PROBELESS_REQUIRE_DATA(testing::kTumRpy);
-  const auto frames = testing::read_tum_frames(12);
   const DenseTrackerParams params;
-  const auto camera = testing::tum_fr1_camera();
-  const auto map = undistortion_map(camera, params.finest_level);
   FramePyramid key_pyramid, current;
-  build_pyramid_reference(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params, map,
-                          key_pyramid);
-  build_pyramid_reference(frames[11].colour, frames[11].depth_mm, camera.intrinsics(), params, map,
-                          current);
+  tum_pair(params, key_pyramid, current);
   expect_same_sums(key_pyramid, current, params, kNoReadout);
   expect_same_sums(key_pyramid, current, params, kReadout);
 }
@@ -95,15 +91,9 @@ TEST(AccumulateCpu, MatchesTheReferenceOnTumFrames) {
 // (docs/performance.md; run with --gtest_also_run_disabled_tests).
 TEST(AccumulateCpu, DISABLED_BenchAgainstTheReference) {
   PROBELESS_REQUIRE_DATA(testing::kTumRpy);
-  const auto frames = testing::read_tum_frames(12);
   const DenseTrackerParams params;
-  const auto camera = testing::tum_fr1_camera();
-  const auto map = undistortion_map(camera, params.finest_level);
   FramePyramid key_pyramid, current;
-  build_pyramid_reference(frames[0].colour, frames[0].depth_mm, camera.intrinsics(), params, map,
-                          key_pyramid);
-  build_pyramid_reference(frames[11].colour, frames[11].depth_mm, camera.intrinsics(), params, map,
-                          current);
+  tum_pair(params, key_pyramid, current);
   const Keyframe keyframe =
       make_keyframe(key_pyramid, Pose::identity(), params.max_points_per_level, kReadout);
   IterationParams p{};
