@@ -30,8 +30,10 @@ VirtualLayer RenderStage::process(const Pose& T_world_camera) {
   }
   if (snap->version != light_version_) {
     // A new keyframe copy: a new Environment, uploaded and prefiltered once for all objects.
-    auto env = std::make_shared<const render::Environment>(
-        render::make_environment(snap->texels, snap->sh));
+    // The light thread made it, with the CPU half of the upload (LightSnapshot::environment).
+    auto env = snap->environment ? snap->environment
+                                 : std::make_shared<const render::Environment>(
+                                       render::make_environment(snap->texels, snap->sh));
     renderer_.prepare(env);
     for (auto& o : objects_) o.environment = env;
     light_version_ = snap->version;

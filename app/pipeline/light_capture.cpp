@@ -7,6 +7,7 @@
 
 #include "app/pipeline/scene_objects.hpp"
 #include "app/pipeline/thread_name.hpp"
+#include "app/render/environment_map.hpp"
 #include "kernels/envmap/keyframe_reprojection.hpp"
 #include "kernels/hdr/colour_exposure.hpp"
 #include "kernels/light/colour_fill.hpp"
@@ -351,6 +352,13 @@ bool LightCapture::publish(const FisheyeFrame& frame) {
     }
   }
   snap->sh = estimator_->sh->project(box_average(snap->texels, kShFaceSize));
+  {
+    auto environment =
+        std::make_shared<render::Environment>(render::make_environment(snap->texels, snap->sh));
+    environment->levels = std::make_shared<const render::EnvironmentLevels>(
+        render::prepare_levels(*environment, environment_scratch_));
+    snap->environment = std::move(environment);
+  }
   if (estimator_->colour) {
     snap->colour_exposure = estimator_->colour->estimate().e;
     snap->colour_exposure_valid = estimator_->colour->estimate().valid;

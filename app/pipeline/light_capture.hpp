@@ -19,6 +19,7 @@
 
 #include "app/pipeline/pose_history.hpp"
 #include "app/pipeline/service_config.hpp"
+#include "app/render/environment.hpp"
 #include "app/service/heartbeat.hpp"
 #include "base/stage_stats.hpp"
 #include "core/calibration.hpp"
@@ -51,6 +52,11 @@ struct LightSnapshot {
   // (kernels/hdr/colour_exposure.hpp); valid = false until a frame pair matched.
   Eigen::Vector3d colour_exposure = Eigen::Vector3d::Ones();
   bool colour_exposure_valid = false;
+  // `texels` and `sh` as the renderer takes them, with the CPU half of its upload done
+  // (render::prepare_levels): made here on the light thread, so that the processing thread's
+  // frame at a new snapshot only uploads (issue #19's frame p99). Null in snapshots made
+  // without a renderer in mind (none today).
+  std::shared_ptr<const render::Environment> environment;
 };
 
 class LightCapture {
@@ -124,6 +130,7 @@ class LightCapture {
   std::shared_ptr<const LightSnapshot> snapshot_;
   std::uint64_t snapshot_version_ = 0;
   TimestampNs last_publish_ns_ = 0;
+  std::vector<std::vector<float>> environment_scratch_;    // prepare_levels' chain, kept
   Eigen::Vector3d anchor_ = Eigen::Vector3d::Zero();       // the objects' mean position
   Eigen::Vector3d light_point_ = Eigen::Vector3d::Zero();  // 10 cm above it
   std::optional<envmap::RoomBox> room_;                    // [light] room

@@ -23,7 +23,7 @@ void Environment::validate() const {
 }
 
 Environment make_environment(ImageRGBAF faces, const ShRgb& sh) {
-  Environment e{std::move(faces), sh};
+  Environment e{std::move(faces), sh, {}};
   e.validate();
   return e;
 }

@@ -9,6 +9,7 @@
 // use and keeps the result while the shared_ptr lives, so a light update is a new
 // Environment (a new shared_ptr), never an edit of the old one.
 #include <Eigen/Core>
+#include <memory>
 
 #include "core/cubemap.hpp"
 #include "core/image.hpp"
@@ -17,6 +18,7 @@
 namespace probeless::render {
 
 using ImageRGBAF = Image<float, 4>;
+struct EnvironmentLevels;  // environment_map.hpp
 
 struct Environment {
   // Radiance, the six faces stacked top to bottom in OpenGL order (+X, -X, +Y, -Y, +Z, -Z),
@@ -25,6 +27,10 @@ struct Environment {
   // it is. Alpha is ignored (it is the keyframe's texel state there).
   ImageRGBAF faces;
   ShRgb sh;  // radiance coefficients, 5 bands (3 at least), world frame
+  // Optional: prepare_levels(*this) (environment_map.hpp), the CPU half of the upload, made by
+  // whoever made the Environment off the render thread (the light thread: issue #19's frame
+  // p99). The renderer makes them itself when they are absent.
+  std::shared_ptr<const EnvironmentLevels> levels;
 
   int face_size() const { return faces.width(); }
   // Throws std::invalid_argument when the faces are not n x 6n with n >= 1, a radiance is not

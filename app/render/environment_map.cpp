@@ -181,34 +181,54 @@ EnvironmentPrefilter::EnvironmentPrefilter(const PrefilterConfig& config) : conf
   check_gl("environment prefilter: setup");
 }
 
-void EnvironmentPrefilter::update(const Environment& environment, EnvironmentTexture& out) {
+EnvironmentLevels prepare_levels(const Environment& environment,
+                                 std::vector<std::vector<float>>& box) {
   environment.validate();
   const int n = environment.face_size();
   // Level 0 in float: negative radiance to 0, divided by the power-of-two scale that keeps
   // the brightest texel inside half float. The box chain and the conversion to half are done
-  // here on the CPU: llvmpipe's glGenerateMipmap and its float -> half upload cost several
-  // times more (docs/rendering.md "Speed").
+  // on the CPU: llvmpipe's glGenerateMipmap and its float -> half upload cost several times
+  // more (docs/rendering.md "Speed").
   const float* src = environment.faces.data();
   const std::size_t count = environment.faces.elements().size();
   float peak = 0.f;
   for (std::size_t i = 0; i < count; i += 4)
     for (std::size_t c = 0; c < 3; ++c) peak = std::max(peak, src[i + c]);
-  const float scale =
-      peak > kHalfHeadroom ? std::exp2(std::ceil(std::log2(peak / kHalfHeadroom))) : 1.f;
-  const float inverse = 1.f / scale;
+  EnvironmentLevels out;
+  out.face_size = n;
+  out.scale = peak > kHalfHeadroom ? std::exp2(std::ceil(std::log2(peak / kHalfHeadroom))) : 1.f;
+  const float inverse = 1.f / out.scale;
   const int chain = level_count(n, 32);  // down to 1 px
-  box_.resize(static_cast<std::size_t>(chain));
-  halves_.resize(static_cast<std::size_t>(chain));
-  box_[0].resize(count);
+  box.resize(static_cast<std::size_t>(chain));
+  out.halves.resize(static_cast<std::size_t>(chain));
+  box[0].resize(count);
   for (std::size_t i = 0; i < count; i += 4) {
-    for (std::size_t c = 0; c < 3; ++c) box_[0][i + c] = std::max(src[i + c], 0.f) * inverse;
-    box_[0][i + 3] = 1.f;
+    for (std::size_t c = 0; c < 3; ++c) box[0][i + c] = std::max(src[i + c], 0.f) * inverse;
+    box[0][i + 3] = 1.f;
   }
-  to_half(box_[0], halves_[0]);
-  for (std::size_t j = 1; j < box_.size(); ++j) {
-    box_down(box_[j - 1], std::max(n >> (j - 1), 1), box_[j]);
-    to_half(box_[j], halves_[j]);
+  to_half(box[0], out.halves[0]);
+  for (std::size_t j = 1; j < box.size(); ++j) {
+    box_down(box[j - 1], std::max(n >> (j - 1), 1), box[j]);
+    to_half(box[j], out.halves[j]);
   }
+  return out;
+}
+
+EnvironmentLevels prepare_levels(const Environment& environment) {
+  std::vector<std::vector<float>> scratch;
+  return prepare_levels(environment, scratch);
+}
+
+void EnvironmentPrefilter::update(const Environment& environment, EnvironmentTexture& out) {
+  EnvironmentLevels own;
+  const EnvironmentLevels* levels = environment.levels.get();
+  if (!levels || levels->face_size != environment.face_size()) {
+    own = prepare_levels(environment, box_);
+    levels = &own;
+  }
+  const int n = levels->face_size;
+  const int chain = static_cast<int>(levels->halves.size());
+  const float scale = levels->scale;
 
   glActiveTexture(GL_TEXTURE0);  // every bind below is on unit 0
   const int spec_size = std::max(n / 2, 1);
@@ -229,8 +249,8 @@ void EnvironmentPrefilter::update(const Environment& environment, EnvironmentTex
   out.scale = scale;
   for (int j = 0; j < chain; ++j)
     upload_level(out.radiance.get(), j, std::max(n >> j, 1),
-                 halves_[static_cast<std::size_t>(j)].data());
-  upload_level(out.specular.get(), 0, spec_size, halves_[n > 1 ? 1 : 0].data());
+                 levels->halves[static_cast<std::size_t>(j)].data());
+  upload_level(out.specular.get(), 0, spec_size, levels->halves[n > 1 ? 1 : 0].data());
   if (out.specular_levels == 1) {
     check_gl("environment prefilter: upload");
     return;

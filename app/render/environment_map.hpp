@@ -39,6 +39,21 @@ struct PrefilterConfig {
   float lod_bias = 0.5f;
 };
 
+// The CPU half of uploading an environment: level 0 (negative radiance to 0, divided by the
+// power of two `scale` that keeps the brightest texel inside half float) and its box chain
+// down to 1 px, each level RGBA half floats, faces stacked as Environment::faces. Pure CPU
+// (no GL), so it can be made beside the Environment on another thread.
+struct EnvironmentLevels {
+  int face_size = 0;
+  float scale = 1.f;
+  std::vector<std::vector<std::uint16_t>> halves;  // level j: max(n >> j, 1)^2 x 6 x RGBA
+};
+// Validates `environment` first (Environment::validate's errors). `scratch` holds the float
+// chain between calls (a caller that prepares often keeps one).
+EnvironmentLevels prepare_levels(const Environment& environment,
+                                 std::vector<std::vector<float>>& scratch);
+EnvironmentLevels prepare_levels(const Environment& environment);
+
 struct EnvironmentTexture {
   GlTexture radiance;  // GL_TEXTURE_CUBE_MAP, RGBA16F, face_size, full box chain
   GlTexture specular;  // GL_TEXTURE_CUBE_MAP, RGBA16F, face_size / 2, specular_levels
@@ -54,7 +69,8 @@ class EnvironmentPrefilter {
   explicit EnvironmentPrefilter(const PrefilterConfig& config = {});
 
   // Uploads `environment` (validated) into `out`, reallocating it when the face size changes,
-  // and prefilters the specular levels. Enqueues GL work and does not wait for it; leaves the
+  // and prefilters the specular levels. Uses environment.levels when present (made off this
+  // thread), else prepares them here. Enqueues GL work and does not wait for it; leaves the
   // framebuffer, program, viewport and texture bindings changed.
   void update(const Environment& environment, EnvironmentTexture& out);
 
@@ -75,8 +91,7 @@ class EnvironmentPrefilter {
   int taps_for_size_ = 0;
   GlFramebuffer framebuffer_;
   GlVertexArray empty_vao_;
-  std::vector<std::vector<float>> box_;             // the box chain, scaled, RGBA float
-  std::vector<std::vector<std::uint16_t>> halves_;  // the same as half floats
+  std::vector<std::vector<float>> box_;  // prepare_levels' scratch
 };
 
 // The importance samples of the GGX lobe with this alpha that the prefilter reads for each

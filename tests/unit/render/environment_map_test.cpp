@@ -67,6 +67,38 @@ TEST_F(EnvironmentMapTest, RadianceBeyondHalfFloatSurvives) {
   }
 }
 
+// The light thread prepares the levels (prepare_levels) beside the Environment; the renderer
+// must then upload exactly what it would have made itself, beyond half float too.
+TEST_F(EnvironmentMapTest, PreparedLevelsUploadTheSameTextures) {
+  const auto sky = [](const Eigen::Vector3d& d) {
+    return Eigen::Vector3d(1 + d.z(), 2e5 * std::max(0.0, d.x()), 0.5 + d.y() * d.y());
+  };
+  const auto plain = environment_of(32, sky);
+  auto prepared = std::make_shared<Environment>(*environment_of(32, sky));
+  prepared->levels = std::make_shared<const EnvironmentLevels>(prepare_levels(*prepared));
+  ASSERT_EQ(prepared->levels->face_size, 32);
+  ASSERT_EQ(prepared->levels->halves.size(), 6u);  // 32 .. 1 px
+  EXPECT_GT(prepared->levels->scale, 1.f);         // the 2e5 lobe needs the scale
+  const std::shared_ptr<const Environment> shared = prepared;
+  for (const auto& [layer, level] :
+       {std::pair{EnvironmentLayer::Radiance, 0}, std::pair{EnvironmentLayer::Radiance, 3},
+        std::pair{EnvironmentLayer::Specular, 0}, std::pair{EnvironmentLayer::Specular, 2}}) {
+    const Cubemap a = renderer().read_environment(plain, layer, level);
+    const Cubemap b = renderer().read_environment(shared, layer, level);
+    ASSERT_EQ(a.face_size, b.face_size);
+    for (int f = 0; f < 6; ++f)
+      for (int y = 0; y < a.face_size; ++y)
+        for (int x = 0; x < a.face_size; ++x)
+          ASSERT_EQ(texel(a, f, x, y), texel(b, f, x, y))
+              << "layer " << int(layer) << " level " << level << " face " << f;
+  }
+  // Levels that belong to another face size are not used.
+  auto stale = std::make_shared<Environment>(*environment_of(16, sky));
+  stale->levels = prepared->levels;
+  const std::shared_ptr<const Environment> stale_shared = stale;
+  EXPECT_EQ(renderer().read_environment(stale_shared, EnvironmentLayer::Radiance, 0).face_size, 16);
+}
+
 // What the prefilter approximates (Karis 2013 with n = v = r): the average of the radiance
 // over the GGX lobe's distribution of light directions, weighted by n.l,
 //   P(n) = sum L(w) (n.w) pdf(w) dw / sum (n.w) pdf(w) dw,  pdf(w) = D(h) (n.h) / (4 w.h),
