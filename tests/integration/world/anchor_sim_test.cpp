@@ -71,7 +71,10 @@ TEST(AnchorSim, TheBoardAnchorsTheWorldWithin5mmAndHalfADegree) {
 }
 
 // The tracker's world slips by 3 cm (drift, a relocalisation) while the board stays in view:
-// the world follows the board back, at most max_step_mm per frame.
+// the world follows the board back, at most max_step_mm per frame. The slip starts once the
+// world has been found and held for a few frames, so the test does not depend on which early
+// frame the detector first finds the board in (one suite run under load found the world
+// already near the slipped one and "failed" for a glide it never had to make).
 TEST(AnchorSim, ReanchoringGlidesAtTheBoundedRate) {
   WorldConfig world;
   world.anchor = "marker";
@@ -80,15 +83,21 @@ TEST(AnchorSim, ReanchoringGlidesAtTheBoundedRate) {
   WorldAnchor anchor(world, rig.calibration);
   Pose slip;
   slip.translation = Eigen::Vector3d(0.03, 0, 0);
-  std::optional<Pose> previous;
+  constexpr int kSettle = 5;   // frames the found world is held before the slip
+  constexpr int kFrames = 30;  // slipped frames
+  std::optional<Pose> previous, before_slip;
+  int found_at = -1;
   double max_step_mm = 0, detect_ms = 0, update_ms = 0;
   RgbdFrame frame;
-  constexpr int kFrames = 30;
-  for (int i = 0; i < kFrames; ++i) {
+  for (int i = 0; found_at < 0 || i < found_at + kSettle + kFrames; ++i) {
+    if (found_at < 0) {
+      ASSERT_LT(i, 10) << "the world was not found in the first frames: the board is in view";
+    }
     ASSERT_EQ(rig.rgbd->read(frame, 5s), ReadResult::Frame);
-    // The sim's world is the tracker's; from frame 1 on, the tracker has it 3 cm off.
+    // The sim's world is the tracker's until the slip; from then on the tracker has it 3 cm off.
+    const bool slipped = found_at >= 0 && i >= found_at + kSettle;
     Pose T_tracker_camera = *frame.truth->rig_pose * rig.calibration.T_rig_rgb;
-    if (i > 0) T_tracker_camera = slip * T_tracker_camera;
+    if (slipped) T_tracker_camera = slip * T_tracker_camera;
     const auto t0 = std::chrono::steady_clock::now();
     const auto T_world_tracker = anchor.update(frame, T_tracker_camera);
     const auto t1 = std::chrono::steady_clock::now();
@@ -96,10 +105,9 @@ TEST(AnchorSim, ReanchoringGlidesAtTheBoundedRate) {
     update_ms += std::chrono::duration<double, std::milli>(t1 - t0).count();
     detect_ms +=
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
-    if (!T_world_tracker) {
-      ASSERT_EQ(i, 0) << "only the first frame goes by before the first sighting";
-      continue;
-    }
+    if (!T_world_tracker) continue;
+    if (found_at < 0) found_at = i;
+    if (!slipped) before_slip = T_world_tracker;
     if (previous)
       max_step_mm = std::max(max_step_mm, world_step_m(*previous, *T_world_tracker) * 1e3);
     previous = T_world_tracker;
@@ -107,12 +115,14 @@ TEST(AnchorSim, ReanchoringGlidesAtTheBoundedRate) {
   // Where the world should end up: the board's, in the slipped tracker's world.
   const Pose expected = (slip * sim::board_world_pose()).inverse();
   const double left_mm = world_step_m(*previous, expected) * 1e3;
-  std::cout << "re-anchoring 30 mm: largest step " << max_step_mm << " mm/frame, " << left_mm
+  const double moved_mm = world_step_m(*before_slip, *previous) * 1e3;
+  std::cout << "re-anchoring 30 mm (world found at frame " << found_at << "): largest step "
+            << max_step_mm << " mm/frame, moved " << moved_mm << " mm, " << left_mm
             << " mm left after " << kFrames << " frames; on the processing thread "
-            << update_ms / kFrames << " ms/frame, the detector's wait " << detect_ms / kFrames
-            << " ms/frame\n";
+            << update_ms / (found_at + kSettle + kFrames) << " ms/frame, the detector's wait "
+            << detect_ms / (found_at + kSettle + kFrames) << " ms/frame\n";
   EXPECT_LE(max_step_mm, world.max_step_mm + 0.05);
-  EXPECT_GT(max_step_mm, 0.5 * world.max_step_mm) << "it does follow the board";
+  EXPECT_GT(moved_mm, 20.0) << "it does follow the board";
   EXPECT_LT(left_mm, 5.0);
 }
 
