@@ -87,14 +87,12 @@ ExposureStats count_exposure(const ImageRGB16& raw, int bit_depth, std::uint16_t
   const std::uint16_t* p = raw.data();
   // Thresholds as 16-bit lanes; a test that can never pass compares against a value no lane
   // reaches and is zeroed after.
-  const auto upper = [](long v) { return std::uint16_t(std::clamp(v, 0L, 65535L)); };
-  const auto lower = [](long v) { return std::uint16_t(std::clamp(v, 0L, 65535L)); };
+  const auto lanes = [](long v) { return U16{} + std::uint16_t(std::clamp(v, 0L, 65535L)); };
   const bool sat_possible = raw_tests.saturated <= 65535,
              near_sat_possible = raw_tests.near_saturated <= 65535,
              zero_possible = raw_tests.zero >= 0, near_zero_possible = raw_tests.near_zero >= 0;
-  const U16 sat = U16{} + upper(raw_tests.saturated),
-            near_sat = U16{} + upper(raw_tests.near_saturated),
-            zero = U16{} + lower(raw_tests.zero), near_zero = U16{} + lower(raw_tests.near_zero);
+  const U16 sat = lanes(raw_tests.saturated), near_sat = lanes(raw_tests.near_saturated),
+            zero = lanes(raw_tests.zero), near_zero = lanes(raw_tests.near_zero);
   const std::size_t groups = s.pixels / 8;
   // 16-bit counters: each lane gains at most 1 per group, so flush before 65536 groups.
   constexpr std::size_t kFlush = 65535;
