@@ -181,6 +181,9 @@ void SimRenderer::render(const Pose& T_world_camera, int lamp_state, const Occlu
     for (int k = 0; k < static_cast<int>(to_cast.size()); ++k) cast(k);
   }
   tiles_cast_ = static_cast<int>(to_cast.size());
+  edge_pixels_.clear();
+  if (edge_samples_ > 1 && with_depth && table_.empty())
+    supersample_edges(rotation, origin, lamp_state, occluder);
   have_last_ = true;
   last_pose_ = T_world_camera;
   last_lamp_state_ = lamp_state;

@@ -20,6 +20,17 @@ namespace probeless::sim {
 inline constexpr std::uint8_t kFlagOccluder = 1;  // the arm is the first hit
 inline constexpr std::uint8_t kFlagNoDepth = 2;   // glass, black, mirror: no structured light
 
+// A pixel whose footprint straddles a depth edge, cast again with n x n rays
+// (SimRenderer::set_edge_samples): the rays split at the middle of their depth range into the
+// near layer (the occluding side) and the far one. Its radiance is the mean of all rays,
+// near_coverage x near + (1 - near_coverage) x far.
+struct EdgePixel {
+  std::int32_t index;  // y * width + x
+  float near_coverage;
+  Eigen::Vector3f near_radiance, far_radiance;
+  float near_depth, far_depth;  // metres along the optical axis, each layer's mean
+};
+
 class SimRenderer {
  public:
   // An ideal pinhole (rays with camera-z = 1, so the hit distance is the depth). pool: the
@@ -36,6 +47,15 @@ class SimRenderer {
   const ImageRGBF& radiance() const { return radiance_; }
   const ImageF& depth() const { return depth_; }  // metres along the optical axis
   const ImageGray8& flags() const { return flags_; }
+  // n > 1 (pinhole, with_depth renders only): after each render, pixels next to a depth jump
+  // of more than kEdgeJump (relative) are cast again with n x n rays and averaged, and those
+  // whose rays see two layers are listed in edge_pixels(), in index order. The depth and
+  // flags stay the centre ray's (the depth sensor's own edge model is in depth_noise).
+  void set_edge_samples(int n) { edge_samples_ = n; }
+  const std::vector<EdgePixel>& edge_pixels() const { return edge_pixels_; }
+  // 3 %: 3 cm at 1 m. A table at a grazing 35 deg changes depth by ~0.3 % a pixel at 640 x 480,
+  // so only silhouettes count.
+  static constexpr float kEdgeJump = 0.03f;
   int width() const { return width_; }
   int height() const { return height_; }
   // Tiles cast in the last render() (a static rig's frames re-cast only the arm's tiles).
@@ -56,6 +76,8 @@ class SimRenderer {
     std::array<PrimRef, kMaxPrims> prims;
   };
   void build_tiles();
+  void supersample_edges(const Eigen::Matrix3f& rotation, const Eigen::Vector3f& origin,
+                         int lamp_state, const Occluder* occluder);
   void cast_tile(int index, const Eigen::Matrix3f& rotation, const Eigen::Vector3f& origin,
                  int lamp_state, const Occluder* occluder, bool with_depth);
 
@@ -77,6 +99,8 @@ class SimRenderer {
   int last_lamp_state_ = -1;
   bool last_with_depth_ = false;
   int tiles_cast_ = 0;
+  int edge_samples_ = 1;
+  std::vector<EdgePixel> edge_pixels_;
 };
 
 }  // namespace probeless::sim

@@ -62,7 +62,9 @@ SimRgbdSource::SimRgbdSource(std::shared_ptr<const SimWorld> world, const SimOpt
       meter_renderer_(world_, geometry.width / kMeterScale, geometry.height / kMeterScale,
                       geometry.fx / kMeterScale, geometry.fy / kMeterScale,
                       (geometry.cx + 0.5) / kMeterScale - 0.5,
-                      (geometry.cy + 0.5) / kMeterScale - 0.5, nullptr) {}
+                      (geometry.cy + 0.5) / kMeterScale - 0.5, nullptr) {
+  renderer_.set_edge_samples(options.edge_samples);
+}
 
 ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeout) {
   for (;;) {
@@ -171,11 +173,13 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
   const int w = geometry_.width, h = geometry_.height;
   const ImageF& depth_m = renderer_.depth();
   const ImageGray8& flags = renderer_.flags();
+  const auto to_mm = [](float z) {
+    // Depths are positive: + 0.5 and truncation rounds (std::lround is a library call).
+    return static_cast<std::uint16_t>(std::min(z * 1000.0f + 0.5f, 65535.0f));
+  };
   DepthImage clean(w, h), measurable(w, h);
   for (std::size_t i = 0; i < clean.pixel_count(); ++i) {
-    const float z = depth_m.data()[i];
-    // Depths are positive: + 0.5 and truncation rounds (std::lround is a library call).
-    const auto mm = static_cast<std::uint16_t>(std::min(z * 1000.0f + 0.5f, 65535.0f));
+    const std::uint16_t mm = to_mm(depth_m.data()[i]);
     clean.data()[i] = mm;
     measurable.data()[i] = (flags.data()[i] & kFlagNoDepth) ? 0 : mm;
   }
@@ -224,6 +228,20 @@ void SimRgbdSource::render_frame(std::int64_t index, RgbdFrame& frame) {
       truth->occluder_mask.data()[i] = (flags.data()[i] & kFlagOccluder) ? 255 : 0;
     truth->rig_pose = rig;
     truth->light = world_->light(lamps);
+    // Each layer alone through the camera's gain, white balance and gamma, without noise.
+    const auto encode = [&](const Eigen::Vector3f& radiance) {
+      std::array<std::uint8_t, 3> rgb{};
+      for (int c = 0; c < 3; ++c) {
+        const float v = std::clamp(radiance[c] * scale[static_cast<std::size_t>(c)], 0.0f, 1.0f);
+        rgb[static_cast<std::size_t>(c)] = lut[static_cast<std::size_t>(v * 65535.0f + 0.5f)];
+      }
+      return rgb;
+    };
+    truth->mixed_pixels.reserve(renderer_.edge_pixels().size());
+    for (const EdgePixel& e : renderer_.edge_pixels())
+      truth->mixed_pixels.push_back({static_cast<std::uint32_t>(e.index), e.near_coverage,
+                                     to_mm(e.near_depth), to_mm(e.far_depth),
+                                     encode(e.near_radiance), encode(e.far_radiance)});
     frame.truth = std::move(truth);
   } else {
     frame.truth.reset();

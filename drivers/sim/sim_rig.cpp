@@ -108,6 +108,9 @@ SimOptions parse_sim_options(std::string_view spec) {
       o.board = parse_bool(key, value);
     } else if (key == "near_occluder") {
       o.near_occluder = parse_bool(key, value);
+    } else if (key == "edge_samples") {
+      o.edge_samples = parse_number<int>(key, value, "an integer");
+      if (o.edge_samples < 1 || o.edge_samples > 8) bad(key, value, "1..8");
     } else if (key == "fps" || key == "rgbd_fps") {
       o.rgbd_fps = parse_positive(key, value, 1000);
     } else if (key == "fisheye_fps") {
@@ -161,7 +164,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "frames, "
           "prerender, stall, stall_every, "
           "truth, "
-          "threads, start, board, near_occluder)");
+          "threads, start, board, near_occluder, edge_samples)");
     }
   }
   return o;
@@ -234,6 +237,8 @@ Rig make_sim_rig(const SimOptions& options) {
   if (options.fisheye_bit_depth != 8 && options.fisheye_bit_depth != 12)
     throw std::invalid_argument("sim: fisheye_bit_depth must be 8 or 12");
   if (options.render_threads < 1) throw std::invalid_argument("sim: render_threads must be >= 1");
+  if (options.edge_samples < 1 || options.edge_samples > 8)
+    throw std::invalid_argument("sim: edge_samples must be 1..8");
 
   Rig rig;
   PinholeIntrinsics k;  // 640 x 480, f 525, centre (319.5, 239.5)

@@ -72,6 +72,12 @@ struct SimOptions {
   // evaluator's near-occluder protocol, docs/occlusion.md). Off by default: the frames
   // without it are unchanged.
   bool near_occluder = false;
+  // > 1: colour pixels that straddle a depth edge are cast again with edge_samples^2 rays and
+  // averaged (in radiance, before the camera's encoding), so silhouettes are mixed pixels as
+  // a real camera's are; each such pixel's two layers go into FrameTruth::mixed_pixels (the
+  // true foreground and fractional matte for the occlusion evaluator's composite error,
+  // docs/occlusion.md). Off (1) by default: the frames without it are unchanged.
+  int edge_samples = 1;
 };
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
@@ -80,7 +86,7 @@ struct SimOptions {
 // fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file),
 // fisheye_ocam_model (ocam or kannala_brandt: that lens fitted), frames (max_frames), stall
 // (BEGIN:END), stall_every (frames), truth, threads, start (seconds of world time at the first
-// frame), near_occluder (0|1).
+// frame), near_occluder (0|1), edge_samples (1..8).
 SimOptions parse_sim_options(std::string_view spec);
 
 // Rig from drivers/source.hpp (rgbd + fisheye + calibration, and its scene: object_anchor()

@@ -83,7 +83,8 @@ std::optional<double> mean_region_mse(const std::vector<ImageF>& alphas, const E
 
 MethodScore score(const EvalCase& c, const std::vector<ImageF>& alphas,
                   const std::vector<ImageF>& truths, const std::vector<ImageGray8>& masks,
-                  const std::vector<ImageGray8>& bands, const std::vector<double>& fg_errors) {
+                  const std::vector<ImageGray8>& bands,
+                  const std::vector<CompositeErrors>& composite_errors) {
   MethodScore s;
   double mse_sum = 0, band_sum = 0, sad_sum = 0;
   int mse_n = 0, band_n = 0;
@@ -104,11 +105,15 @@ MethodScore score(const EvalCase& c, const std::vector<ImageF>& alphas,
   if (c.report_sad) s.sad = sad_sum / static_cast<double>(c.frames.size());
   s.contact_mse = mean_region_mse(alphas, c, &EvalFrame::contact_band);
   s.near_occluder_mse = mean_region_mse(alphas, c, &EvalFrame::near_band);
-  double fg_sum = 0;
-  int fg_n = 0;
-  for (double e : fg_errors)
-    if (e >= 0) fg_sum += e, ++fg_n;
-  if (fg_n) s.fg_composite_error = fg_sum / fg_n;
+  const auto mean_of = [&](double CompositeErrors::*which) -> std::optional<double> {
+    double sum = 0;
+    int n = 0;
+    for (const CompositeErrors& e : composite_errors)
+      if (e.*which >= 0) sum += e.*which, ++n;
+    return n ? std::optional(sum / n) : std::nullopt;
+  };
+  s.fg_composite_error = mean_of(&CompositeErrors::estimated);
+  s.observed_composite_error = mean_of(&CompositeErrors::observed);
   return s;
 }
 
@@ -132,7 +137,7 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
     spdlog::info("eval: {} ({} frame{})", c.name, c.frames.size(), c.frames.size() == 1 ? "" : "s");
     const std::size_t columns = report.methods.size();
     std::vector<std::vector<ImageF>> alphas(columns);
-    std::vector<std::vector<double>> fg_errors(columns);
+    std::vector<std::vector<CompositeErrors>> fg_errors(columns);
     // One stabiliser per method and case: its history is that method's previous matte.
     std::vector<std::unique_ptr<occlusion::MatteStabiliser>> stabilisers;
     if (options.stabilised)
@@ -152,13 +157,13 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
       for (std::size_t m = 0; m < methods.size(); ++m) {
         methods[m]->process(in, alpha);
         alphas[column].push_back(alpha.download(queue));
-        fg_errors[column].push_back(composite.error(f, colour, alpha));
+        fg_errors[column].push_back(composite.error(f, colour, virt, alpha));
         ++column;
         if (options.stabilised) {
           stabilisers[m]->process(in, c.intrinsics ? k : PinholeIntrinsics{}, f.T_world_camera,
                                   alpha);
           alphas[column].push_back(alpha.download(queue));
-          fg_errors[column].push_back(composite.error(f, colour, alpha));
+          fg_errors[column].push_back(composite.error(f, colour, virt, alpha));
           ++column;
         }
       }
@@ -187,7 +192,7 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
         if (v) sum += *v, ++n;
       }
       std::optional<double> get() const { return n ? std::optional(sum / n) : std::nullopt; }
-    } b, t, sd, ct, nr, fg;
+    } b, t, sd, ct, nr, fg, ob;
     for (const auto& sc : report.scenes) {
       const auto& s = sc.methods.at(name);
       mean.mse += s.mse / static_cast<double>(report.scenes.size());
@@ -197,6 +202,7 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
       ct.add(s.contact_mse);
       nr.add(s.near_occluder_mse);
       fg.add(s.fg_composite_error);
+      ob.add(s.observed_composite_error);
     }
     mean.boundary_mse = b.get();
     mean.temporal_noise = t.get();
@@ -204,6 +210,7 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
     mean.contact_mse = ct.get();
     mean.near_occluder_mse = nr.get();
     mean.fg_composite_error = fg.get();
+    mean.observed_composite_error = ob.get();
     report.mean[name] = mean;
   }
   if (!options.plots_dir.empty()) write_bar_plots(options.plots_dir, report);
@@ -249,6 +256,8 @@ std::string format_report(const EvalReport& r) {
                [](const MethodScore& s) { return s.near_occluder_mse; });
   out += table(r, "fg composite error x1e3", 1e3,
                [](const MethodScore& s) { return s.fg_composite_error; });
+  out += table(r, "composite error, observed colour x1e3", 1e3,
+               [](const MethodScore& s) { return s.observed_composite_error; });
   return out;
 }
 
@@ -262,6 +271,7 @@ nlohmann::json report_json(const EvalReport& r) {
     if (s.contact_mse) j["contact_mse"] = *s.contact_mse;
     if (s.near_occluder_mse) j["near_occluder_mse"] = *s.near_occluder_mse;
     if (s.fg_composite_error) j["fg_composite_error"] = *s.fg_composite_error;
+    if (s.observed_composite_error) j["observed_composite_error"] = *s.observed_composite_error;
     return j;
   };
   nlohmann::json j;

@@ -24,10 +24,12 @@ struct MethodScore {
   // The sim protocol's (absent elsewhere): MSE in the band around the virtual objects'
   // contact lines, in the band around an occluder without depth, and the composite's mean
   // squared error (RGB / 255) where the matte is fractional against the composite with the
-  // true matte and the true foreground colour.
+  // true matte and the true foreground colour: fg_composite_error with the service's
+  // foreground colour estimate, observed_composite_error with the observed colour.
   std::optional<double> contact_mse;
   std::optional<double> near_occluder_mse;
   std::optional<double> fg_composite_error;
+  std::optional<double> observed_composite_error;
 };
 
 struct SceneScores {

@@ -17,7 +17,10 @@ namespace probeless::eval {
 
 SimProtocolOptions parse_sim_protocol(std::string_view options) {
   // Later keys win in parse_sim_options: the protocol's defaults first, the caller's after.
-  const std::string spec = "trajectory=tabletop,start=1.5,near_occluder=1," + std::string(options);
+  // edge_samples=4: silhouettes are mixed pixels as a camera's are (16 rays), so the matte's
+  // truth is fractional there and the composite error has a true foreground to score.
+  const std::string spec =
+      "trajectory=tabletop,start=1.5,near_occluder=1,edge_samples=4," + std::string(options);
   SimProtocolOptions o;
   o.sim = sim::parse_sim_options(spec);
   if (o.sim.max_frames >= 0) {
@@ -82,6 +85,22 @@ std::string case_name(const SimProtocolOptions& o) {
 
 }  // namespace
 
+void apply_mixed_pixels(const std::vector<MixedPixel>& mixed, EvalFrame& f) {
+  if (mixed.empty()) return;
+  f.true_foreground = f.colour;
+  const std::size_t count = f.truth.pixel_count();
+  for (const MixedPixel& m : mixed) {
+    if (m.index >= count || !f.mask.data()[m.index]) continue;
+    const float v = f.virtual_depth_mm.data()[m.index];
+    // Only a pixel split by the virtual surface is fractional: the near layer hides the
+    // object and is the foreground, the far one is what the object replaces. With both
+    // layers on one side the centre ray's binary truth stands.
+    if (!(static_cast<float>(m.near_mm) < v && static_cast<float>(m.far_mm) >= v)) continue;
+    f.truth.data()[m.index] = 1.0F - m.near_coverage;
+    std::copy(m.near_rgb.begin(), m.near_rgb.end(), f.true_foreground.data() + 3 * m.index);
+  }
+}
+
 std::vector<EvalCase> sim_cases(const SimProtocolOptions& o) {
   Rig rig = sim::make_sim_rig(o.sim);
   const PinholeIntrinsics k = rig.calibration.rgb.intrinsics();
@@ -145,6 +164,7 @@ std::vector<EvalCase> sim_cases(const SimProtocolOptions& o) {
         contact.at(x, y) = std::fabs(static_cast<double>(real) - v) <= o.contact_mm ? 1 : 0;
         if (real < min_mm) near.at(x, y) = 1, any_near = true;
       }
+    apply_mixed_pixels(truth.mixed_pixels, f);
     f.contact_band = dilate_mask(contact, o.band_px);
     for (std::size_t p = 0; p < f.mask.pixel_count(); ++p)
       if (!f.mask.data()[p]) f.contact_band.data()[p] = 0;

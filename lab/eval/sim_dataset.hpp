@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/frame.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "lab/eval/eval_case.hpp"
 
@@ -30,6 +31,12 @@ SimProtocolOptions parse_sim_protocol(std::string_view options);
 
 // One case, "sim/<trajectory>[+near]", of options.frames frames. Needs EGL (the renderer).
 std::vector<EvalCase> sim_cases(const SimProtocolOptions& options);
+
+// The sim's mixed pixels (FrameTruth::mixed_pixels) into a frame whose truth, mask, colour
+// and virtual depth are set: where the virtual surface lies between a pixel's two layers its
+// truth becomes the far layer's coverage and its true foreground the near layer's colour
+// (f.true_foreground: the observed colour elsewhere). Nothing without mixed pixels.
+void apply_mixed_pixels(const std::vector<MixedPixel>& mixed, EvalFrame& f);
 
 // 255 on every pixel within `radius` (Chebyshev) of a non-zero pixel of `seeds`, else 0: the
 // contact and near-occluder bands before they are cut to the evaluated pixels.

@@ -59,16 +59,22 @@ std::optional<double> fractional_composite_error(const EvalFrame& f, const Image
   return sum / static_cast<double>(n);
 }
 
-double SimComposite::error(const EvalFrame& f, const DeviceImageRGB8& colour,
-                           const DeviceImageF& alpha) {
-  if (f.virtual_colour.empty()) return -1;
+CompositeErrors SimComposite::error(const EvalFrame& f, const DeviceImageRGB8& colour,
+                                    const DeviceImageF& virtual_depth_mm,
+                                    const DeviceImageF& alpha) {
+  if (f.virtual_colour.empty()) return {};
   auto& q = ctx_.queue();
   virtual_colour_.resize(ctx_.context(), f.virtual_colour.width(), f.virtual_colour.height());
   virtual_colour_.upload(q, f.virtual_colour);
-  compositor_.process(colour, virtual_colour_, alpha, out_);
-  const ImageRGB8 composite = out_.download(q);
   const ImageF a = alpha.download(q);
-  return fractional_composite_error(f, a, composite).value_or(-1);
+  foreground_.process(colour, virtual_depth_mm, alpha, estimated_);
+  return {score(f, alpha, a, estimated_), score(f, alpha, a, colour)};
+}
+
+double SimComposite::score(const EvalFrame& f, const DeviceImageF& alpha, const ImageF& host_alpha,
+                           const DeviceImageRGB8& real) {
+  compositor_.process(real, virtual_colour_, alpha, out_);
+  return fractional_composite_error(f, host_alpha, out_.download(ctx_.queue())).value_or(-1);
 }
 
 }  // namespace probeless::eval

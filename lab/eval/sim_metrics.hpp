@@ -7,6 +7,7 @@
 
 #include "core/image.hpp"
 #include "kernels/composite/compositor.hpp"
+#include "kernels/occlusion/foreground/foreground_estimate.hpp"
 #include "lab/eval/eval_case.hpp"
 
 namespace probeless::eval {
@@ -26,20 +27,30 @@ std::optional<double> windowed_temporal_noise(const std::vector<ImageF>& alphas,
 std::optional<double> fractional_composite_error(const EvalFrame& frame, const ImageF& alpha,
                                                  const ImageRGB8& composite);
 
-// Runs the shipped compositor for a frame and scores it (above). Foreground colour (issue
-// #19 item 5): when the composite stage estimates the foreground colour at fractional alpha,
-// call that stage here instead of Compositor::process, and the column measures it.
+// A frame's composite error (fractional_composite_error) both ways; -1 where it has none.
+struct CompositeErrors {
+  double estimated = -1;  // the service's composite stage: ForegroundEstimate, then Compositor
+  double observed = -1;   // Compositor on the observed colour (no foreground estimate)
+};
+
+// Runs the service's compositing for a frame and scores it (above), with and without the
+// foreground colour estimate at fractional matte pixels (issue #19 item 5).
 class SimComposite {
  public:
-  explicit SimComposite(ComputeContext& ctx) : ctx_(ctx), compositor_(ctx) {}
-  // -1 when the frame has no virtual colour (not the sim protocol) or no fractional pixel.
-  double error(const EvalFrame& frame, const DeviceImageRGB8& colour, const DeviceImageF& alpha);
+  explicit SimComposite(ComputeContext& ctx) : ctx_(ctx), foreground_(ctx), compositor_(ctx) {}
+  // Both -1 when the frame has no virtual colour (not the sim protocol) or no fractional pixel.
+  CompositeErrors error(const EvalFrame& frame, const DeviceImageRGB8& colour,
+                        const DeviceImageF& virtual_depth_mm, const DeviceImageF& alpha);
 
  private:
+  double score(const EvalFrame& frame, const DeviceImageF& alpha, const ImageF& host_alpha,
+               const DeviceImageRGB8& real);
+
   ComputeContext& ctx_;
+  occlusion::ForegroundEstimate foreground_;
   Compositor compositor_;
   DeviceImageRGBA8 virtual_colour_;
-  DeviceImageRGB8 out_;
+  DeviceImageRGB8 estimated_, out_;
 };
 
 }  // namespace probeless::eval

@@ -4,8 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+
 #include "lab/eval/matte_metrics.hpp"
 #include "lab/eval/sim_dataset.hpp"
+#include "support/cl_context.hpp"
 
 namespace probeless::eval {
 namespace {
@@ -89,6 +93,79 @@ TEST(SimMetrics, CompositeErrorAtFractionalPixelsOnly) {
   EXPECT_DOUBLE_EQ(*fractional_composite_error(f, alpha, composite), 0.0);
   EXPECT_FALSE(fractional_composite_error(f, ImageF(3, 1), composite).has_value());
   EXPECT_THROW(fractional_composite_error(f, ImageF(2, 1), composite), std::invalid_argument);
+}
+
+TEST(SimProtocol, MixedPixelsSplitByTheObjectGetFractionalTruthAndTheirForeground) {
+  EXPECT_EQ(parse_sim_protocol("").sim.edge_samples, 4) << "silhouettes are mixed pixels";
+  EvalFrame f;
+  f.colour = ImageRGB8(4, 1, 100);
+  f.virtual_depth_mm = ImageF(4, 1, 1000.0F);
+  f.truth = ImageF(4, 1, 1.0F);
+  f.mask = ImageGray8(4, 1, 255);
+  f.mask.at(3, 0) = 0;  // not on the object
+  const std::vector<MixedPixel> mixed = {
+      {0, 0.25F, 500, 2000, {10, 20, 30}, {200, 200, 200}},  // hand over the wall: split
+      {1, 0.5F, 600, 900, {40, 50, 60}, {70, 80, 90}},       // both in front: truth stays
+      {2, 0.5F, 1200, 1500, {40, 50, 60}, {70, 80, 90}},     // both behind
+      {3, 0.5F, 500, 2000, {40, 50, 60}, {70, 80, 90}},      // off the object
+      {9, 0.5F, 500, 2000, {40, 50, 60}, {70, 80, 90}},      // outside the frame: ignored
+  };
+  apply_mixed_pixels(mixed, f);
+  EXPECT_FLOAT_EQ(f.truth.at(0, 0), 0.75F) << "the wall's share of the pixel";
+  EXPECT_EQ(f.true_foreground.at(0, 0, 0), 10);
+  EXPECT_EQ(f.true_foreground.at(0, 0, 2), 30);
+  for (int x = 1; x < 4; ++x) {
+    EXPECT_EQ(f.truth.at(x, 0), 1.0F) << x;
+    EXPECT_EQ(f.true_foreground.at(x, 0, 0), 100) << "the observed colour at " << x;
+  }
+  EvalFrame none;
+  apply_mixed_pixels({}, none);
+  EXPECT_TRUE(none.true_foreground.empty());
+}
+
+TEST(SimComposite, TheForegroundEstimateLowersTheErrorOnAMixedEdge) {
+  // A skin-coloured hand (left) over a blue-grey wall (right), a vertical silhouette through a
+  // column of mixed pixels (the hand covers 60 % of each, mixed in linear light as the sim's
+  // edge samples do), the blue object behind both and the matte exactly the truth.
+  const int w = 48, h = 32, edge = 24;
+  const std::array<std::uint8_t, 3> hand{200, 140, 110}, wall{60, 90, 140};
+  const auto lin = [](std::uint8_t v) { return std::pow(v / 255.0, 2.2); };
+  EvalFrame f;
+  f.colour = ImageRGB8(w, h);
+  f.true_foreground = ImageRGB8(w, h);
+  f.virtual_colour = ImageRGBA8(w, h, 255);
+  f.virtual_depth_mm = ImageF(w, h, 1000.0F);
+  f.truth = ImageF(w, h);
+  f.mask = ImageGray8(w, h, 255);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        const auto k = static_cast<std::size_t>(c);
+        const double mix = 0.6 * lin(hand[k]) + 0.4 * lin(wall[k]);
+        f.colour.at(x, y, c) =
+            x < edge   ? hand[k]
+            : x > edge ? wall[k]
+                       : static_cast<std::uint8_t>(std::lround(255 * std::pow(mix, 1 / 2.2)));
+        f.true_foreground.at(x, y, c) = x <= edge ? hand[k] : f.colour.at(x, y, c);
+        f.virtual_colour.at(x, y, c) = c == 2 ? 230 : 20;
+      }
+      f.truth.at(x, y) = x < edge ? 0.0F : x > edge ? 1.0F : 0.4F;
+    }
+  auto& ctx = testing::cl_context();
+  const DeviceImageRGB8 colour(ctx, f.colour);
+  const DeviceImageF virt(ctx, f.virtual_depth_mm), alpha(ctx, f.truth);
+  SimComposite composite(ctx);
+  const CompositeErrors e = composite.error(f, colour, virt, alpha);
+  ASSERT_GT(e.observed, 0.0) << "the observed mix carries the wall into the object";
+  EXPECT_LT(e.estimated, 0.1 * e.observed);
+  EXPECT_GE(e.estimated, 0.0);
+  // Nothing fractional, or no virtual colour (not the sim protocol): nothing to score.
+  const DeviceImageF hard(ctx, ImageF(w, h, 1.0F));
+  const CompositeErrors none = composite.error(f, colour, virt, hard);
+  EXPECT_EQ(none.estimated, -1);
+  EXPECT_EQ(none.observed, -1);
+  f.virtual_colour = {};
+  EXPECT_EQ(composite.error(f, colour, virt, alpha).observed, -1);
 }
 
 }  // namespace
