@@ -81,6 +81,16 @@ std::optional<double> mean_region_mse(const std::vector<ImageF>& alphas, const E
   return sum / n;
 }
 
+// The mean over the frames that have one (SimComposite::error's -1: none).
+std::optional<double> mean_composite_error(const std::vector<CompositeErrors>& errors,
+                                           bool estimated) {
+  double sum = 0;
+  int n = 0;
+  for (const CompositeErrors& e : errors)
+    if (const double v = estimated ? e.estimated : e.observed; v >= 0) sum += v, ++n;
+  return n ? std::optional(sum / n) : std::nullopt;
+}
+
 MethodScore score(const EvalCase& c, const std::vector<ImageF>& alphas,
                   const std::vector<ImageF>& truths, const std::vector<ImageGray8>& masks,
                   const std::vector<ImageGray8>& bands,
@@ -105,15 +115,8 @@ MethodScore score(const EvalCase& c, const std::vector<ImageF>& alphas,
   if (c.report_sad) s.sad = sad_sum / static_cast<double>(c.frames.size());
   s.contact_mse = mean_region_mse(alphas, c, &EvalFrame::contact_band);
   s.near_occluder_mse = mean_region_mse(alphas, c, &EvalFrame::near_band);
-  const auto mean_of = [&](double CompositeErrors::*which) -> std::optional<double> {
-    double sum = 0;
-    int n = 0;
-    for (const CompositeErrors& e : composite_errors)
-      if (e.*which >= 0) sum += e.*which, ++n;
-    return n ? std::optional(sum / n) : std::nullopt;
-  };
-  s.fg_composite_error = mean_of(&CompositeErrors::estimated);
-  s.observed_composite_error = mean_of(&CompositeErrors::observed);
+  s.fg_composite_error = mean_composite_error(composite_errors, true);
+  s.observed_composite_error = mean_composite_error(composite_errors, false);
   return s;
 }
 
@@ -132,6 +135,7 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
     methods.push_back(make_method(ctx, name, options.settings));
   auto& queue = ctx.queue();
   SimComposite composite(ctx);
+  std::vector<CompositeErrors> true_matte_errors;
 
   for (const auto& c : cases) {
     spdlog::info("eval: {} ({} frame{})", c.name, c.frames.size(), c.frames.size() == 1 ? "" : "s");
@@ -152,6 +156,10 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
       colour.upload(queue, f.colour);
       depth.upload(queue, f.real_depth_mm);
       virt.upload(queue, f.virtual_depth_mm);
+      if (!f.virtual_colour.empty()) {
+        alpha.upload(queue, f.truth);
+        true_matte_errors.push_back(composite.error(f, colour, virt, alpha));
+      }
       const occlusion::OcclusionInputs in{&colour, &depth, &virt};
       std::size_t column = 0;
       for (std::size_t m = 0; m < methods.size(); ++m) {
@@ -213,6 +221,8 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
     mean.observed_composite_error = ob.get();
     report.mean[name] = mean;
   }
+  report.true_matte_fg_composite_error = mean_composite_error(true_matte_errors, true);
+  report.true_matte_observed_composite_error = mean_composite_error(true_matte_errors, false);
   if (!options.plots_dir.empty()) write_bar_plots(options.plots_dir, report);
   return report;
 }
@@ -258,6 +268,11 @@ std::string format_report(const EvalReport& r) {
                [](const MethodScore& s) { return s.fg_composite_error; });
   out += table(r, "composite error, observed colour x1e3", 1e3,
                [](const MethodScore& s) { return s.observed_composite_error; });
+  if (r.true_matte_fg_composite_error && r.true_matte_observed_composite_error)
+    out += fmt::format(
+        "composite error with the true matte x1e3: {:.3f} with the foreground estimate, {:.3f} "
+        "with the observed colour\n\n",
+        1e3 * *r.true_matte_fg_composite_error, 1e3 * *r.true_matte_observed_composite_error);
   return out;
 }
 
@@ -285,6 +300,9 @@ nlohmann::json report_json(const EvalReport& r) {
   nlohmann::json mean = nlohmann::json::object();
   for (const auto& m : r.methods) mean[m] = score(r.mean.at(m));
   j["mean"] = mean;
+  if (r.true_matte_fg_composite_error && r.true_matte_observed_composite_error)
+    j["true_matte"] = {{"fg_composite_error", *r.true_matte_fg_composite_error},
+                       {"observed_composite_error", *r.true_matte_observed_composite_error}};
   return j;
 }
 

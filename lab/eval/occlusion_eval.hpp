@@ -42,6 +42,9 @@ struct EvalReport {
   std::vector<std::string> methods;  // report order
   std::vector<SceneScores> scenes;
   std::map<std::string, MethodScore> mean;  // arithmetic mean over scenes
+  // The sim protocol's composite error with the true matte (mean over its frames): what the
+  // foreground estimate alone does where the matte is right. Absent elsewhere.
+  std::optional<double> true_matte_fg_composite_error, true_matte_observed_composite_error;
 };
 
 struct EvalOptions {
