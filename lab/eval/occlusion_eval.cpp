@@ -141,7 +141,7 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
     spdlog::info("eval: {} ({} frame{})", c.name, c.frames.size(), c.frames.size() == 1 ? "" : "s");
     const std::size_t columns = report.methods.size();
     std::vector<std::vector<ImageF>> alphas(columns);
-    std::vector<std::vector<CompositeErrors>> fg_errors(columns);
+    std::vector<std::vector<CompositeErrors>> composite_errors(columns);
     // One stabiliser per method and case: its history is that method's previous matte.
     std::vector<std::unique_ptr<occlusion::MatteStabiliser>> stabilisers;
     if (options.stabilised)
@@ -158,20 +158,22 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
       virt.upload(queue, f.virtual_depth_mm);
       if (!f.virtual_colour.empty()) {
         alpha.upload(queue, f.truth);
-        true_matte_errors.push_back(composite.error(f, colour, virt, alpha));
+        true_matte_errors.push_back(composite.error(f, colour, virt, alpha, f.truth));
       }
       const occlusion::OcclusionInputs in{&colour, &depth, &virt};
       std::size_t column = 0;
       for (std::size_t m = 0; m < methods.size(); ++m) {
         methods[m]->process(in, alpha);
         alphas[column].push_back(alpha.download(queue));
-        fg_errors[column].push_back(composite.error(f, colour, virt, alpha));
+        composite_errors[column].push_back(
+            composite.error(f, colour, virt, alpha, alphas[column].back()));
         ++column;
         if (options.stabilised) {
           stabilisers[m]->process(in, c.intrinsics ? k : PinholeIntrinsics{}, f.T_world_camera,
                                   alpha);
           alphas[column].push_back(alpha.download(queue));
-          fg_errors[column].push_back(composite.error(f, colour, virt, alpha));
+          composite_errors[column].push_back(
+              composite.error(f, colour, virt, alpha, alphas[column].back()));
           ++column;
         }
       }
@@ -185,7 +187,8 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
       bands.push_back(silhouette_band(f.truth, f.mask, options.boundary_px));
     }
     for (std::size_t m = 0; m < columns; ++m)
-      scene.methods[report.methods[m]] = score(c, alphas[m], truths, masks, bands, fg_errors[m]);
+      scene.methods[report.methods[m]] =
+          score(c, alphas[m], truths, masks, bands, composite_errors[m]);
     if (!options.plots_dir.empty())
       write_example_mattes(options.plots_dir, c, report.methods, alphas);
     report.scenes.push_back(std::move(scene));
@@ -221,8 +224,10 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
     mean.observed_composite_error = ob.get();
     report.mean[name] = mean;
   }
-  report.true_matte_fg_composite_error = mean_composite_error(true_matte_errors, true);
-  report.true_matte_observed_composite_error = mean_composite_error(true_matte_errors, false);
+  const auto true_estimated = mean_composite_error(true_matte_errors, true),
+             true_observed = mean_composite_error(true_matte_errors, false);
+  if (true_estimated && true_observed)
+    report.true_matte_composite = CompositeErrors{*true_estimated, *true_observed};
   if (!options.plots_dir.empty()) write_bar_plots(options.plots_dir, report);
   return report;
 }
@@ -268,11 +273,11 @@ std::string format_report(const EvalReport& r) {
                [](const MethodScore& s) { return s.fg_composite_error; });
   out += table(r, "composite error, observed colour x1e3", 1e3,
                [](const MethodScore& s) { return s.observed_composite_error; });
-  if (r.true_matte_fg_composite_error && r.true_matte_observed_composite_error)
+  if (const auto& t = r.true_matte_composite)
     out += fmt::format(
         "composite error with the true matte x1e3: {:.3f} with the foreground estimate, {:.3f} "
         "with the observed colour\n\n",
-        1e3 * *r.true_matte_fg_composite_error, 1e3 * *r.true_matte_observed_composite_error);
+        1e3 * t->estimated, 1e3 * t->observed);
   return out;
 }
 
@@ -300,9 +305,9 @@ nlohmann::json report_json(const EvalReport& r) {
   nlohmann::json mean = nlohmann::json::object();
   for (const auto& m : r.methods) mean[m] = score(r.mean.at(m));
   j["mean"] = mean;
-  if (r.true_matte_fg_composite_error && r.true_matte_observed_composite_error)
-    j["true_matte"] = {{"fg_composite_error", *r.true_matte_fg_composite_error},
-                       {"observed_composite_error", *r.true_matte_observed_composite_error}};
+  if (const auto& t = r.true_matte_composite)
+    j["true_matte"] = {{"fg_composite_error", t->estimated},
+                       {"observed_composite_error", t->observed}};
   return j;
 }
 

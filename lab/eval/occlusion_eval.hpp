@@ -13,6 +13,7 @@
 #include "kernels/runtime/compute_context.hpp"
 #include "lab/eval/eval_case.hpp"
 #include "lab/eval/method_set.hpp"
+#include "lab/eval/sim_metrics.hpp"
 
 namespace probeless::eval {
 
@@ -44,7 +45,7 @@ struct EvalReport {
   std::map<std::string, MethodScore> mean;  // arithmetic mean over scenes
   // The sim protocol's composite error with the true matte (mean over its frames): what the
   // foreground estimate alone does where the matte is right. Absent elsewhere.
-  std::optional<double> true_matte_fg_composite_error, true_matte_observed_composite_error;
+  std::optional<CompositeErrors> true_matte_composite;
 };
 
 struct EvalOptions {

@@ -60,15 +60,14 @@ std::optional<double> fractional_composite_error(const EvalFrame& f, const Image
 }
 
 CompositeErrors SimComposite::error(const EvalFrame& f, const DeviceImageRGB8& colour,
-                                    const DeviceImageF& virtual_depth_mm,
-                                    const DeviceImageF& alpha) {
+                                    const DeviceImageF& virtual_depth_mm, const DeviceImageF& alpha,
+                                    const ImageF& host_alpha) {
   if (f.virtual_colour.empty()) return {};
   auto& q = ctx_.queue();
   virtual_colour_.resize(ctx_.context(), f.virtual_colour.width(), f.virtual_colour.height());
   virtual_colour_.upload(q, f.virtual_colour);
-  const ImageF a = alpha.download(q);
   foreground_.process(colour, virtual_depth_mm, alpha, estimated_);
-  return {score(f, alpha, a, estimated_), score(f, alpha, a, colour)};
+  return {score(f, alpha, host_alpha, estimated_), score(f, alpha, host_alpha, colour)};
 }
 
 double SimComposite::score(const EvalFrame& f, const DeviceImageF& alpha, const ImageF& host_alpha,

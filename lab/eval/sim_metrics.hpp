@@ -39,8 +39,10 @@ class SimComposite {
  public:
   explicit SimComposite(ComputeContext& ctx) : ctx_(ctx), foreground_(ctx), compositor_(ctx) {}
   // Both -1 when the frame has no virtual colour (not the sim protocol) or no fractional pixel.
+  // host_alpha: `alpha` as the caller already downloaded it.
   CompositeErrors error(const EvalFrame& frame, const DeviceImageRGB8& colour,
-                        const DeviceImageF& virtual_depth_mm, const DeviceImageF& alpha);
+                        const DeviceImageF& virtual_depth_mm, const DeviceImageF& alpha,
+                        const ImageF& host_alpha);
 
  private:
   double score(const EvalFrame& frame, const DeviceImageF& alpha, const ImageF& host_alpha,

@@ -155,17 +155,18 @@ TEST(SimComposite, TheForegroundEstimateLowersTheErrorOnAMixedEdge) {
   const DeviceImageRGB8 colour(ctx, f.colour);
   const DeviceImageF virt(ctx, f.virtual_depth_mm), alpha(ctx, f.truth);
   SimComposite composite(ctx);
-  const CompositeErrors e = composite.error(f, colour, virt, alpha);
+  const CompositeErrors e = composite.error(f, colour, virt, alpha, f.truth);
   ASSERT_GT(e.observed, 0.0) << "the observed mix carries the wall into the object";
   EXPECT_LT(e.estimated, 0.1 * e.observed);
   EXPECT_GE(e.estimated, 0.0);
   // Nothing fractional, or no virtual colour (not the sim protocol): nothing to score.
-  const DeviceImageF hard(ctx, ImageF(w, h, 1.0F));
-  const CompositeErrors none = composite.error(f, colour, virt, hard);
+  const ImageF all_visible(w, h, 1.0F);
+  const DeviceImageF hard(ctx, all_visible);
+  const CompositeErrors none = composite.error(f, colour, virt, hard, all_visible);
   EXPECT_EQ(none.estimated, -1);
   EXPECT_EQ(none.observed, -1);
   f.virtual_colour = {};
-  EXPECT_EQ(composite.error(f, colour, virt, alpha).observed, -1);
+  EXPECT_EQ(composite.error(f, colour, virt, alpha, f.truth).observed, -1);
 }
 
 }  // namespace
