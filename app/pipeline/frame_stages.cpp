@@ -110,7 +110,8 @@ const DeviceImageF& OcclusionStage::process(const DeviceFrame& frame,
   alpha_.resize(ctx_.context(), frame.colour->width(), frame.colour->height());
   const occlusion::OcclusionInputs in{frame.colour, frame.real_depth, frame.virtual_depth};
   method_->process(in, alpha_);
-  if (stabiliser_) stabiliser_->process(in, intrinsics_, T_world_camera, alpha_);
+  if (stabiliser_)
+    stabiliser_->process(method_->as_judged(in), intrinsics_, T_world_camera, alpha_);
   return alpha_;
 }
 

@@ -19,6 +19,11 @@ const std::vector<std::string>& method_names() {
   return names;
 }
 
+void use_exact_trimap(MethodParams& params) {
+  params.categorise.erosion_px = 0;
+  params.cvf.hole_core_px = 0;
+}
+
 std::unique_ptr<OcclusionMethod> make_method(ComputeContext& ctx, const std::string& name,
                                              const MethodParams& params) {
   CvfParams cvf = params.cvf_thesis;

@@ -24,6 +24,7 @@ struct Options {
   std::uint64_t seed = 1;
   int max_scenes = 0;
   int wide_subsample = 0;  // 0 = the method's default
+  int hole_core_px = -1;   // -1 = the shipped default
   bool stabilised = false;
   std::string stabiliser;  // W:COLOUR:DEPTH_MM:DEPTH_REL
 };
@@ -64,8 +65,9 @@ void run(const Options& o) {
   if (o.wide_subsample > 0) opts.settings.cvf.cvf.wide.subsample = o.wide_subsample;
   std::string protocol;
   auto cases = eval::load_cases(o.dataset, opts, &protocol);
-  // The trimap is exact: there is no lateral depth noise to erode (docs/occlusion.md).
-  if (protocol == "alphamatting") opts.settings.categorise.erosion_px = 0;
+  // The trimap is exact and no sensor's (docs/occlusion.md).
+  if (protocol == "alphamatting") occlusion::use_exact_trimap(opts.settings);
+  if (o.hole_core_px >= 0) opts.settings.cvf.hole_core_px = o.hole_core_px;
   ComputeContext ctx;
   spdlog::info("eval occlusion: {} cases on {}", cases.size(), ctx.describe());
   auto report = eval::evaluate(ctx, cases, opts);
@@ -101,6 +103,10 @@ void add_eval_occlusion_command(CLI::App& eval) {
   cmd->add_option("--cvf-subsample", o->wide_subsample,
                   "The shipped CVF's wide filter subsampling (1 = exact, its default; 2 = fast "
                   "guided filter)");
+  cmd->add_option("--cvf-hole-core", o->hole_core_px,
+                  "The shipped CVF's hole-core radius, px (0 = holes are only 'process'; default: "
+                  "the shipped value; docs/occlusion.md \"Occluders the sensor cannot see\")")
+      ->check(CLI::Range(0, 64));
   cmd->add_flag("--stabilised", o->stabilised,
                 "Also score every method with temporal stabilisation (columns METHOD+stab)");
   cmd->add_option("--stabiliser", o->stabiliser,

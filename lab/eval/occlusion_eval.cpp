@@ -169,8 +169,8 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
             composite.error(f, colour, virt, alpha, alphas[column].back()));
         ++column;
         if (options.stabilised) {
-          stabilisers[m]->process(in, c.intrinsics ? k : PinholeIntrinsics{}, f.T_world_camera,
-                                  alpha);
+          stabilisers[m]->process(methods[m]->as_judged(in), c.intrinsics ? k : PinholeIntrinsics{},
+                                  f.T_world_camera, alpha);
           alphas[column].push_back(alpha.download(queue));
           composite_errors[column].push_back(
               composite.error(f, colour, virt, alpha, alphas[column].back()));

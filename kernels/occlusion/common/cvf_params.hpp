@@ -98,6 +98,13 @@ struct CvfLocalParams {
   // instead of 88e-3, but raised the Middlebury mean from 10.28e-3 to 14.5e-3, whose Kinect-model
   // holes it also capped (docs/occlusion.md "Occluders the sensor cannot see").
   bool near_occluders = false;
+  // Holes wider than 2 r + 1 px are surfaces nearer than the sensor's minimum range: their
+  // cores (hole mask eroded by r) take part as "in front" (hole_core_reference.hpp, issue #19
+  // item 4). r in px at 640 px width, scaled with the frame's (hole_core_radius()); 0 = off.
+  // 20: the widest that leaves the Middlebury mean as it was (10.28e-3; 16 raised it to
+  // 10.46e-3 through ArtL's wide holes) and still mattes a hand at 0.45 m within 2x of the same
+  // hand with depth (docs/occlusion.md "Occluders the sensor cannot see").
+  int hole_core_px = 20;
 };
 
 // Costs (probability that the real surface hides the object), thesis 3.3.3.

@@ -7,6 +7,7 @@
 #include "kernels/occlusion/common/categorise_reference.hpp"
 #include "kernels/occlusion/common/guided_filter_reference.hpp"
 #include "kernels/occlusion/cvf/cvf_reference.hpp"
+#include "kernels/occlusion/cvf/hole_core_reference.hpp"
 #include "kernels/occlusion/cvf/near_occluder_reference.hpp"
 
 namespace probeless::occlusion {
@@ -221,12 +222,15 @@ LocalCosts local_costs_reference(const ImageRGB8& colour, const CategoryImage& c
   return t;
 }
 
-CvfLocalTrace cvf_local_reference(const ImageRGB8& colour, const DepthImage& real_depth_mm,
+CvfLocalTrace cvf_local_reference(const ImageRGB8& colour, const DepthImage& sensor_depth_mm,
                                   const ImageF& virtual_depth_mm, const CvfLocalParams& params) {
   const int w = colour.width(), h = colour.height();
-  if (real_depth_mm.width() != w || real_depth_mm.height() != h || virtual_depth_mm.width() != w ||
-      virtual_depth_mm.height() != h)
+  if (sensor_depth_mm.width() != w || sensor_depth_mm.height() != h ||
+      virtual_depth_mm.width() != w || virtual_depth_mm.height() != h)
     throw std::invalid_argument("cvf_local_reference: colour and depth sizes differ");
+  // Wide holes are near occluders (hole_core_reference.hpp); every step below sees them so.
+  const DepthImage real_depth_mm =
+      fill_hole_cores_reference(sensor_depth_mm, hole_core_radius(params.hole_core_px, w));
   const CvfParams& p = params.cvf;
   CvfLocalTrace t;
   t.categories = categorise_reference(real_depth_mm, virtual_depth_mm, p.categorise);

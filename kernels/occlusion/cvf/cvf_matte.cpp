@@ -30,6 +30,9 @@ const CvfLocalParams& checked(const CvfLocalParams& lp, bool local) {
     throw std::invalid_argument("cvf: wide subsample must be >= 1, the feather filter full-res");
   if (p.band_px < 0 || p.wide.radius < 0 || p.feather.radius < 0)
     throw std::invalid_argument("cvf: negative radius");
+  // Up to 64 px: wider than any sensor's minimum-range hand at 640 x 480 needs.
+  if (lp.hole_core_px < 0 || lp.hole_core_px > 64)
+    throw std::invalid_argument("cvf: hole core radius must be 0..64 (px at 640 px width)");
   if (!local) return lp;
   // The tiles' pair of histograms in a work-group's local memory (cvf_local_histogram.cl).
   if (p.bins_per_channel > 8) throw std::invalid_argument("cvf: bins per channel must be 1..8");
@@ -53,6 +56,7 @@ std::string cvf_options(const CvfLocalParams& lp, bool local) {
 CvfLocalParams as_thesis(const CvfParams& p) {
   CvfLocalParams lp;
   lp.cvf = p;
+  lp.hole_core_px = 0;  // the thesis treats every hole as "process"
   return lp;
 }
 
@@ -90,6 +94,7 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
   const auto options = cvf_options(params_, local);
   hist_ = ::cl::Buffer(ctx.context(), CL_MEM_READ_WRITE, hist_bytes());
   if (local && params_.near_occluders) near_.emplace(ctx, near_occluder_params(params_));
+  if (params_.hole_core_px > 0) hole_cores_.emplace(ctx);
   if (layout_ == CvfLayout::Tiles) {
     categoriser_.emplace(ctx, params.categorise);
     if (local) local_costs_.emplace(ctx, params_);
@@ -147,13 +152,21 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
     ctx_.queue().finish();
     stage_start_ = std::chrono::steady_clock::now();
   }
+  OcclusionInputs inputs = in;
+  judged_depth_ = nullptr;
+  if (hole_cores_ && in.width() > 0) {
+    judged_depth_ =
+        &hole_cores_->run(*in.real_depth_mm, hole_core_radius(params_.hole_core_px, in.width()));
+    inputs.real_depth_mm = judged_depth_;
+    stage_done("hole cores");
+  }
   if (layout_ == CvfLayout::Tiles) {
-    process_tiles(in, alpha);
+    process_tiles(inputs, alpha);
   } else {
-    process_strips(in, alpha);
+    process_strips(inputs, alpha);
   }
   if (near_) {
-    near_->process(in, alpha);
+    near_->process(inputs, alpha);
     stage_done("near occluders");
   }
 }

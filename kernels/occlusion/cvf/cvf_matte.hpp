@@ -27,6 +27,8 @@
 #include "kernels/occlusion/cvf/cvf_local_histogram.hpp"
 #include "kernels/occlusion/cvf/cvf_local_reference.hpp"
 #include "kernels/occlusion/cvf/histogram_reference.hpp"
+#include "kernels/occlusion/cvf/hole_core.hpp"
+#include "kernels/occlusion/cvf/hole_core_reference.hpp"
 #include "kernels/occlusion/cvf/near_occluder.hpp"
 
 namespace probeless::occlusion {
@@ -69,6 +71,8 @@ class CvfMatte final : public OcclusionMethod {
   CvfLayout layout() const { return layout_; }
   std::string name() const override { return local_ ? "cvf" : "cvf_thesis"; }
   void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) override;
+  // The depth with the hole cores filled, when hole_core_px > 0.
+  const DeviceImage<std::uint16_t, 1>* judged_depth() const override { return judged_depth_; }
 
   // The common part (categories, band, models, filters); local_params() has the rest.
   const CvfParams& params() const { return params_.cvf; }
@@ -120,7 +124,9 @@ class CvfMatte final : public OcclusionMethod {
   // Tiles.
   std::optional<Categoriser> categoriser_;
   std::optional<CvfLocalHistogram> local_costs_;
-  std::optional<NearOccluder> near_;  // cvf with near_occluders (issue #19 item 4)
+  std::optional<NearOccluder> near_;        // cvf with near_occluders (issue #19 item 4)
+  std::optional<HoleCoreFill> hole_cores_;  // cvf with hole_core_px > 0 (issue #19 item 4)
+  const DeviceImage<std::uint16_t, 1>* judged_depth_ = nullptr;
   ::cl::Kernel histogram_, cost_pack_, mask_pack_;
   std::optional<GuidedFilter> tile_wide_, tile_feather_;
   DeviceImageGray8 band_;

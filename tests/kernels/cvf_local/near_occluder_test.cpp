@@ -4,12 +4,16 @@
 // model (core/depth_noise.hpp); MSE of every CVF and Direct against the true matte.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <utility>
 
 #include "core/depth_noise.hpp"
 #include "kernels/occlusion/cvf/cvf_local_reference.hpp"
+#include "kernels/occlusion/cvf/hole_core.hpp"
+#include "kernels/occlusion/cvf/hole_core_reference.hpp"
 #include "kernels/occlusion/method_registry.hpp"
 #include "support/cl_context.hpp"
 
@@ -82,10 +86,13 @@ struct Mses {
   double device, reference;
 };
 
-Mses run(const NearScene& s, const std::string& method, bool near_occluders = false) {
+// hole_core_px < 0: the shipped default.
+Mses run(const NearScene& s, const std::string& method, bool near_occluders = false,
+         int hole_core_px = -1) {
   auto& ctx = cl_context();
   MethodParams params;
   params.cvf.near_occluders = near_occluders;
+  if (hole_core_px >= 0) params.cvf.hole_core_px = hole_core_px;
   auto m = make_method(ctx, method, params);
   const DeviceImageRGB8 colour(ctx, s.colour);
   const DeviceImage<std::uint16_t, 1> real(ctx, s.depth);
@@ -96,16 +103,17 @@ Mses run(const NearScene& s, const std::string& method, bool near_occluders = fa
   if (method == "cvf") {
     CvfLocalParams p;
     p.near_occluders = near_occluders;
+    if (hole_core_px >= 0) p.hole_core_px = hole_core_px;
     out.reference = mse(cvf_local_reference(s.colour, s.depth, s.virt, p).alpha, s.truth);
   }
   return out;
 }
 
-// Prints every method's MSE with the hand at 0.45 m (no depth) and 0.6 m (depth), and cvf with
-// the near-occluder cap (near_occluder_reference.hpp). Asserts what the cap achieves: the hand
+// Prints every method's MSE with the hand at 0.45 m (no depth) and 0.6 m (depth), and cvf
+// without hole cores, with and without the near-occluder cap (near_occluder_reference.hpp, the
+// variant measured before the hole cores and left off). Asserts what the cap achieves: the hand
 // without depth at < 0.3x the MSE without the cap, the hand with depth not worse, device and
-// reference alike. The bar (without depth within 2x of with depth) is NOT met (the
-// ratio is printed; docs/occlusion.md).
+// reference alike. The cap alone misses the bar (13-24x; docs/occlusion.md).
 TEST(NearOccluder, ColourCapHidesAHandWithoutDepth) {
   for (const bool mug : {true, false}) {
     const auto near = near_scene(0.45, 11, mug), far = near_scene(0.60, 11, mug);
@@ -123,8 +131,8 @@ TEST(NearOccluder, ColourCapHidesAHandWithoutDepth) {
       std::printf("%s mug=%d: MSE x1e3 without depth %.2f, with depth %.2f (ratio %.2f)\n", method,
                   int(mug), 1e3 * a.device, 1e3 * b.device, a.device / b.device);
     }
-    const auto a0 = run(near, "cvf"), b0 = run(far, "cvf");
-    const auto a = run(near, "cvf", true), b = run(far, "cvf", true);
+    const auto a0 = run(near, "cvf", false, 0), b0 = run(far, "cvf", false, 0);
+    const auto a = run(near, "cvf", true, 0), b = run(far, "cvf", true, 0);
     std::printf(
         "cvf + near cap mug=%d: without depth %.2f (reference %.2f), with depth %.2f "
         "(reference %.2f), ratio %.2f\n",
@@ -138,6 +146,74 @@ TEST(NearOccluder, ColourCapHidesAHandWithoutDepth) {
       EXPECT_NEAR(b.device, b.reference, 1e-4);
     }
   }
+}
+
+// A hole is a near occluder where its clipped (2r+1)^2 window is all hole: a 12x12 hole's
+// centre at r = 3, not a 6 px sliver, and a hole at the frame's edge through the clipping.
+TEST(HoleCore, ReferenceFillsOnlyTheCoresOfWideHoles) {
+  DepthImage d(40, 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      const bool square = x >= 4 && x < 16 && y >= 4 && y < 16;
+      const bool sliver = x >= 24 && x < 30 && y >= 2 && y < 28;
+      const bool edge = x >= 34 && y >= 20;  // 6 x 10, leaving the frame right and bottom
+      d.at(x, y) = square || sliver || edge ? 0 : 2000;
+    }
+  const auto f = fill_hole_cores_reference(d, 3);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      const bool core = (x >= 7 && x < 13 && y >= 7 && y < 13) || (x >= 37 && y >= 23);
+      EXPECT_EQ(f.at(x, y), core ? kNearHoleDepthMm : d.at(x, y)) << x << "," << y;
+    }
+  const auto unchanged = fill_hole_cores_reference(d, 0);
+  const auto a = unchanged.elements();
+  const auto b = std::as_const(d).elements();
+  EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()));
+}
+
+TEST(HoleCore, DeviceEqualsReference) {
+  auto& ctx = cl_context();
+  for (const int r : {1, 4, 9}) {
+    const auto s = near_scene(0.45, 5);
+    HoleCoreFill fill(ctx);
+    const DeviceImage<std::uint16_t, 1> real(ctx, s.depth);
+    const auto got = fill.run(real, r).download(ctx.queue());
+    const auto want = fill_hole_cores_reference(s.depth, r);
+    const auto g = got.elements(), e = want.elements();
+    ASSERT_TRUE(std::equal(g.begin(), g.end(), e.begin(), e.end())) << "r " << r;
+  }
+  HoleCoreFill fill(ctx);
+  const DeviceImage<std::uint16_t, 1> real(ctx, near_scene(0.45, 5).depth);
+  EXPECT_THROW(fill.run(real, 0), std::invalid_argument);
+}
+
+// The bar with the shipped cvf (hole cores on): the hand without depth matted within 2x
+// of the same hand with depth, device equal to the reference; and far better than without the
+// cores (88e-3 and 69e-3 then).
+TEST(HoleCore, HandWithoutDepthWithinTwiceWithDepth) {
+  ASSERT_GT(CvfLocalParams{}.hole_core_px, 0) << "the shipped cvf takes hole cores";
+  for (const bool mug : {true, false}) {
+    const auto near = near_scene(0.45, 11, mug), far = near_scene(0.60, 11, mug);
+    const auto a = run(near, "cvf"), b = run(far, "cvf");
+    std::printf(
+        "cvf (hole cores) mug=%d: without depth %.2f (reference %.2f), with depth %.2f "
+        "(reference %.2f), ratio %.2f\n",
+        int(mug), 1e3 * a.device, 1e3 * a.reference, 1e3 * b.device, 1e3 * b.reference,
+        a.device / b.device);
+    EXPECT_LE(a.device, 2.0 * b.device) << "mug " << mug;
+    EXPECT_LT(a.device, 3e-3) << "mug " << mug;
+    EXPECT_NEAR(a.device, a.reference, 1e-4) << "mug " << mug;
+    EXPECT_NEAR(b.device, b.reference, 1e-4) << "mug " << mug;
+  }
+}
+
+// The matting protocol's unknown region is a trimap's, not a near surface: no hole cores there.
+TEST(HoleCore, ExactTrimapTakesNone) {
+  MethodParams p;
+  ASSERT_GT(p.cvf.hole_core_px, 0);
+  use_exact_trimap(p);
+  EXPECT_EQ(p.cvf.hole_core_px, 0);
+  EXPECT_EQ(p.categorise.erosion_px, 0);
 }
 
 }  // namespace
