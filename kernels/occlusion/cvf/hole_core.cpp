@@ -27,7 +27,7 @@ const DeviceImage<std::uint16_t, 1>& HoleCoreFill::run(const DeviceImage<std::ui
   rows_.setArg(a++, w);
   rows_.setArg(a++, h);
   rows_.setArg(a++, radius);
-  ctx_.run_2d(rows_, w, h);
+  ctx_.queue().enqueueNDRangeKernel(rows_, ::cl::NullRange, ::cl::NDRange(std::size_t(h)));
   a = 0;
   fill_.setArg(a++, depth.buffer());
   fill_.setArg(a++, row_cores_.buffer());
@@ -35,7 +35,7 @@ const DeviceImage<std::uint16_t, 1>& HoleCoreFill::run(const DeviceImage<std::ui
   fill_.setArg(a++, w);
   fill_.setArg(a++, h);
   fill_.setArg(a++, radius);
-  ctx_.run_2d(fill_, w, h);
+  ctx_.queue().enqueueNDRangeKernel(fill_, ::cl::NullRange, ::cl::NDRange(std::size_t(w)));
   return filled_;
 }
 
