@@ -35,7 +35,8 @@ const DeviceImage<std::uint16_t, 1>& HoleCoreFill::run(const DeviceImage<std::ui
   fill_.setArg(a++, w);
   fill_.setArg(a++, h);
   fill_.setArg(a++, radius);
-  ctx_.queue().enqueueNDRangeKernel(fill_, ::cl::NullRange, ::cl::NDRange(std::size_t(w)));
+  ctx_.queue().enqueueNDRangeKernel(fill_, ::cl::NullRange,
+                                    ::cl::NDRange(static_cast<std::size_t>((w + 15) / 16)));
   return filled_;
 }
 
