@@ -223,6 +223,36 @@ TEST(HoleCore, HandWithoutDepthWithinTwiceWithDepth) {
   }
 }
 
+// What the matte judged by is what the stages after it (the stabiliser) are given: the filled
+// depth with hole cores, the sensor's without.
+TEST(HoleCore, JudgedDepthIsTheFilledOne) {
+  auto& ctx = cl_context();
+  const auto s = near_scene(0.45, 11);
+  const DeviceImageRGB8 colour(ctx, s.colour);
+  const DeviceImage<std::uint16_t, 1> real(ctx, s.depth);
+  const DeviceImageF virt(ctx, s.virt);
+  const OcclusionInputs in{&colour, &real, &virt};
+  DeviceImageF alpha;
+  auto shipped = make_method(ctx, "cvf");
+  shipped->process(in, alpha);
+  const auto* judged = shipped->as_judged(in).real_depth_mm;
+  ASSERT_NE(judged, &real);
+  ASSERT_EQ(judged, shipped->judged_depth());
+  const auto got = judged->download(ctx.queue());
+  const auto want =
+      fill_hole_cores_reference(s.depth, hole_core_radius(CvfLocalParams{}.hole_core_px, 320));
+  const auto g = got.elements(), e = want.elements();
+  EXPECT_TRUE(std::equal(g.begin(), g.end(), e.begin(), e.end()));
+  EXPECT_GT(std::count(e.begin(), e.end(), kNearHoleDepthMm), 2000) << "the hand has a core";
+  MethodParams off;
+  off.cvf.hole_core_px = 0;
+  auto plain = make_method(ctx, "cvf", off);
+  plain->process(in, alpha);
+  EXPECT_EQ(plain->judged_depth(), nullptr);
+  EXPECT_EQ(plain->as_judged(in).real_depth_mm, &real);
+  EXPECT_EQ(make_method(ctx, "direct1")->as_judged(in).real_depth_mm, &real);
+}
+
 // The matting protocol's unknown region is a trimap's, not a near surface: no hole cores there.
 TEST(HoleCore, ExactTrimapTakesNone) {
   MethodParams p;
