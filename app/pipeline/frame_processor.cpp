@@ -119,7 +119,10 @@ CompositeFrame FrameProcessor::compose(const RgbdFrame& frame, const Located& lo
   out.timestamp_ns = frame.timestamp_ns;
   out.colour = std::move(host.composite);
   out.alpha = std::move(host.matte);
-  if (keep_matte_) out.virtual_depth = std::make_shared<const ImageF>(*layer.depth_mm);
+  if (keep_matte_) {
+    out.virtual_depth = std::make_shared<const ImageF>(*layer.depth_mm);
+    out.T_world_camera = T_world_camera;
+  }
   out.truth = frame.truth;
   return out;
 }

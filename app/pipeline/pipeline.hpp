@@ -40,6 +40,7 @@ struct CompositeFrame {
   std::shared_ptr<const ImageRGB8> colour;
   std::shared_ptr<const ImageF> alpha;  // with PipelineOptions::keep_matte or an output's need
   std::shared_ptr<const ImageF> virtual_depth;  // with keep_matte (mm, 0 = no object)
+  std::optional<Pose> T_world_camera;  // with keep_matte: the pose it was drawn and matted with
   std::shared_ptr<const FrameTruth> truth;
   bool no_signal = false;  // a repeat of the last good frame with the NO SIGNAL banner
 };

@@ -90,7 +90,9 @@ inline vf stabilise16(int x0, int y, int width, int height, vf a, vf v, vi on, v
   ok &= ~(has_d & (dp > 0.0f) & (fabs(qz - dp) > m->depth_tol_mm + m->depth_tol_rel * qz));
   ok &= (sw > 1e-6f);
   const vf dr = (sr / sw - r) / 255.0f, dg = (sg / sw - g) / 255.0f, db = (sb / sw - b) / 255.0f;
-  const vf c = (dr * dr + dg * dg + db * db) / (m->colour_range * m->colour_range);
+  // Depth measured in one frame only: it cannot confirm the surface, so colour must, closer.
+  const vf range = select((vf)(m->colour_range), (vf)(UNCONFIRMED_RANGE), has_d ^ (dp > 0.0f));
+  const vf c = (dr * dr + dg * dg + db * db) / (range * range);
   ok &= (c < 1.0f);
   const vf h = m->history_weight * (1.0f - c);
   vf out = (1.0f - h) * a + h * (sa / sw);

@@ -1,5 +1,7 @@
 #include "kernels/occlusion/temporal/matte_stabiliser.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <stdexcept>
@@ -31,11 +33,14 @@ const std::string& stabiliser_source() {
 MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
     : ctx_(ctx),
       params_(params),
-      kernel_(ctx.kernel("matte_stabiliser", stabiliser_source(), "", "stabilise_matte")) {
+      kernel_(ctx.kernel(
+          "matte_stabiliser", stabiliser_source(),
+          fmt::format("-DUNCONFIRMED_RANGE={:a}f", double(params.unconfirmed_colour_range)),
+          "stabilise_matte")) {
   if (!(params.history_weight >= 0.f && params.history_weight < 1.f))
     throw std::invalid_argument("matte stabiliser: history_weight must lie in [0, 1)");
-  if (!(params.colour_range > 0.f))
-    throw std::invalid_argument("matte stabiliser: colour_range must be > 0");
+  if (!(params.colour_range > 0.f && params.unconfirmed_colour_range > 0.f))
+    throw std::invalid_argument("matte stabiliser: colour ranges must be > 0");
   if (!(params.depth_tolerance_mm >= 0.f && params.depth_tolerance_rel >= 0.f))
     throw std::invalid_argument("matte stabiliser: depth tolerances must be >= 0");
   if (!(params.snap >= 0.f && params.snap < 0.5f))

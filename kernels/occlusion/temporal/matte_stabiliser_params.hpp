@@ -29,6 +29,15 @@ struct StabiliserParams {
   // tails took its work from ~3.5 to ~5.8 ms a frame; with the snap ~1.6. 1/512 moves an
   // 8-bit composite by less than half a level (docs/occlusion.md "Temporal stabilisation").
   float snap = 1.f / 512.f;
+  // colour_range where only one of the two frames measured depth there: depth cannot say
+  // whether the surface changed (a hand without depth moved off the table, or a sensor hole
+  // flickered on a still surface), so colour must, closer. With the hole cores the sim's near
+  // hand left a trail of its edges across the table at 0.1 (MSE +19 % against the matte
+  // alone); 0.025 (6 levels) leaves a faint one (+6.6 %) and keeps most of the noise reduction
+  // at flickering holes (arm-only sequence: noise x0.63 against x0.44 at 0.1, MSE -12.7 %
+  // against -6.9 %); refusing history there outright: x0.74 (docs/occlusion.md "Temporal
+  // stabilisation").
+  float unconfirmed_colour_range = 0.025f;
 };
 
 // Where the current frame's pixels were in the previous frame: the colour camera's

@@ -71,7 +71,8 @@ ImageF stabilise_matte_reference(const ImageF& alpha, const StabiliserFrame& cur
         const float dc = (sc[c] / sw - static_cast<float>(cur.colour->at(x, y, c))) / 255.0f;
         dist += dc * dc;
       }
-      const float q = dist / (p.colour_range * p.colour_range);
+      const float range = (d > 0) != (dp > 0) ? p.unconfirmed_colour_range : p.colour_range;
+      const float q = dist / (range * range);
       if (!(q < 1.0f)) continue;
       const float h = p.history_weight * (1.0f - q);
       float blended = (1.0f - h) * a + h * (sa / sw);

@@ -25,8 +25,10 @@ const std::string kSimOptions = "frames=" + std::to_string(kFrames);
 // Every frame in order. When the light capture's first snapshot arrives depends on the
 // threads (a few frames in, or not within the run), and until then the service draws its
 // placeholder objects without the ground receiver; so the evaluator is given, frame by frame,
-// the virtual depth the service drew (the tracked pose's), with the truth from it.
-const std::string kServiceSource = "sim:realtime=0,trajectory=tabletop,start=1.5,near_occluder=1";
+// the virtual depth the service drew (the tracked pose's), with the truth from it, and that
+// pose for its stabiliser.
+const std::string kServiceSource =
+    "sim:realtime=0,trajectory=tabletop,start=1.5,near_occluder=1,edge_samples=4";
 
 std::optional<double> frame_mse(const CompositeFrame& f) {
   double sum = 0;
@@ -70,13 +72,14 @@ TEST(MatteEvalAgreement, ServiceMatteMseMatchesTheEvaluatorsForCvf) {
     std::shared_ptr<const ImageF> virtual_depth;
     std::shared_ptr<const FrameTruth> truth;
     const DepthImage* clean = nullptr;
+    std::optional<Pose> T_world_camera;  // the tracked pose the service stabilised with
   };
   std::map<std::uint64_t, Scored> service;  // by frame index (a NO SIGNAL repeat counts once)
   pipeline.start();
   testing::for_each_output_frame(pipeline, [&](const CompositeFrame& f) {
     if (!f.alpha || !f.truth || !f.virtual_depth) return;
     if (auto m = frame_mse(f))
-      service[f.sequence] = {*m, f.virtual_depth, f.truth, &f.truth->clean_depth};
+      service[f.sequence] = {*m, f.virtual_depth, f.truth, &f.truth->clean_depth, f.T_world_camera};
   });
   pipeline.stop();
   EXPECT_FALSE(pipeline.fatal_error().has_value()) << pipeline.fatal_error().value_or("");
@@ -99,6 +102,9 @@ TEST(MatteEvalAgreement, ServiceMatteMseMatchesTheEvaluatorsForCvf) {
     // The truth as the protocol makes it (sim_dataset.cpp), from the sim frame's clean depth:
     // visible where the real surface is not nearer.
     f.virtual_depth_mm = *it->second.virtual_depth;
+    // The stabiliser re-projects the previous matte with the camera's motion: the service's
+    // is the tracked one, so the evaluator is given that rather than the sim's true pose.
+    f.T_world_camera = it->second.T_world_camera;
     f.truth = ImageF(f.virtual_depth_mm.width(), f.virtual_depth_mm.height());
     f.mask = ImageGray8(f.truth.width(), f.truth.height());
     for (int y = 0; y < f.truth.height(); ++y)
