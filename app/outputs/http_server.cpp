@@ -25,16 +25,17 @@
 #include <system_error>
 #include <thread>
 
+#include "app/outputs/http_compat.hpp"
 #include "app/outputs/http_connections.hpp"
 #include "app/outputs/viewer_page.hpp"
 #include "app/service/heartbeat.hpp"
 #include "base/latest_frame.hpp"
+#include "base/stage_stats.hpp"
 
 namespace probeless {
 namespace {
 
-// mjpg-streamer's boundary, which ustreamer kept: some clients were written against it.
-constexpr const char* kBoundary = "boundarydonotcross";
+constexpr const char* kBoundary = kStreamBoundary;
 constexpr const char* kNoCache =
     "no-store, no-cache, must-revalidate, proxy-revalidate, pre-check=0, post-check=0, "
     "max-age=0";
@@ -42,12 +43,19 @@ constexpr const char* kNoCache =
 // keeps sending anyway can make us buffer.
 constexpr std::size_t kStreamInputLimit = std::size_t{64} * 1024;
 
-enum class Route { Index, Stream, Snapshot, Status, NotFound };
+// ustreamer's placeholder size before any frame has told us the real one (its default).
+constexpr int kPlaceholderWidth = 640;
+constexpr int kPlaceholderHeight = 480;
+// What every route accepts (ustreamer's set); the rest get 405.
+constexpr const char* kAllowed = "GET, HEAD, OPTIONS";
+
+enum class Route { Index, Stream, Snapshot, Status, State, NotFound };
 
 Route route_for(std::string_view path, const char* query) {
   if (path == "/stream") return Route::Stream;
   if (path == "/snapshot") return Route::Snapshot;
   if (path == "/status") return Route::Status;
+  if (path == "/state") return Route::State;
   if (path != "/") return Route::NotFound;
   if (query == nullptr || *query == '\0') return Route::Index;
   // mjpg-streamer's URLs: /?action=stream, /?action=snapshot.
@@ -61,13 +69,6 @@ Route route_for(std::string_view path, const char* query) {
   }
   evhttp_clear_headers(&params);
   return route;
-}
-
-std::string timestamp_text(TimestampNs ns) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%lld.%06lld", static_cast<long long>(ns / 1000000000),
-                static_cast<long long>(ns % 1000000000 / 1000));
-  return text;
 }
 
 // Lets clients share one JPEG without a copy: the evbuffer holds a reference to the bytes
@@ -123,6 +124,9 @@ struct StreamClient {
   evhttp_request* request = nullptr;  // null once libevent has finished with it
   std::string peer;                   // "address:port"
   std::string peer_address;           // for the per-address stream cap
+  std::string id;                     // ustreamer's client id in /state
+  StreamOptions options;              // from the stream URL's query
+  RateMeter sent_rate;                // frames sent, for X-UStreamer-Client-FPS and /state
   TimestampNs connected_ns = 0;
   LatestFrame<EncodedFrame>::Sequence last_sent = 0;
   std::uint64_t frames_sent = 0;
@@ -156,6 +160,11 @@ struct HttpServer::Impl {
 
   // The server thread's state; stats_mutex guards what stats() reads from other threads.
   std::optional<LatestFrame<EncodedFrame>::Item> current;
+  JpegSize current_size;            // read from the current frame's JPEG
+  TimestampNs current_wall_ns = 0;  // its capture time on the wall clock, converted once
+  std::shared_ptr<const std::vector<std::uint8_t>> placeholder;  // made at the first need
+  std::uint64_t next_client_id = 0;
+  RateMeter published_rate;  // frames handed to publish(): /state's queued_fps
   std::list<std::unique_ptr<StreamClient>> clients;
   mutable std::mutex stats_mutex;
   std::uint64_t requests = 0;
@@ -176,6 +185,10 @@ struct HttpServer::Impl {
   void serve_stream(evhttp_request* req);
   void serve_snapshot(evhttp_request* req);
   void serve_status(evhttp_request* req);
+  void serve_state(evhttp_request* req);
+  void serve_options(evhttp_request* req);
+  void add_frame_headers(evhttp_request* req);
+  void add_common_headers(evkeyvalq* headers, const char* content_type);
   void send_body(evhttp_request* req, int code, const char* reason, const char* content_type,
                  evbuffer* body);
   void send_text(evhttp_request* req, int code, const char* reason, const std::string& text);
@@ -320,13 +333,22 @@ void HttpServer::Impl::teardown() {
   base = nullptr;
 }
 
-void HttpServer::Impl::send_body(evhttp_request* req, int code, const char* reason,
-                                 const char* content_type, evbuffer* body) {
-  evkeyvalq* headers = evhttp_request_get_output_headers(req);
+void HttpServer::Impl::add_common_headers(evkeyvalq* headers, const char* content_type) {
   evhttp_add_header(headers, "Content-Type", content_type);
   evhttp_add_header(headers, "Cache-Control", kNoCache);
   if (!config.access.cors_origin.empty())
     evhttp_add_header(headers, "Access-Control-Allow-Origin", config.access.cors_origin.c_str());
+}
+
+void HttpServer::Impl::send_body(evhttp_request* req, int code, const char* reason,
+                                 const char* content_type, evbuffer* body) {
+  evkeyvalq* headers = evhttp_request_get_output_headers(req);
+  add_common_headers(headers, content_type);
+  if (evhttp_request_get_command(req) == EVHTTP_REQ_HEAD) {
+    // The headers a GET would get, Content-Length included, and no body (RFC 9110 9.3.2).
+    evhttp_add_header(headers, "Content-Length", std::to_string(evbuffer_get_length(body)).c_str());
+    evbuffer_drain(body, evbuffer_get_length(body));
+  }
   {
     std::lock_guard lock(stats_mutex);
     bytes_queued += evbuffer_get_length(body);
@@ -359,9 +381,14 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
     send_text(req, HTTP_NOTFOUND, "Not Found", "not found: " + std::string(p) + "\n");
     return;
   }
-  if (evhttp_request_get_command(req) != EVHTTP_REQ_GET) {
-    evhttp_add_header(evhttp_request_get_output_headers(req), "Allow", "GET");
-    send_text(req, 405, "Method Not Allowed", "only GET is served here\n");
+  const evhttp_cmd_type method = evhttp_request_get_command(req);
+  if (method == EVHTTP_REQ_OPTIONS) {
+    serve_options(req);
+    return;
+  }
+  if (method != EVHTTP_REQ_GET && method != EVHTTP_REQ_HEAD) {
+    evhttp_add_header(evhttp_request_get_output_headers(req), "Allow", kAllowed);
+    send_text(req, 405, "Method Not Allowed", "only GET, HEAD and OPTIONS are served here\n");
     return;
   }
   switch (route) {
@@ -373,6 +400,9 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
       return;
     case Route::Status:
       serve_status(req);
+      return;
+    case Route::State:
+      serve_state(req);
       return;
     case Route::Index: {
       evbuffer* body = evbuffer_new();
@@ -387,23 +417,17 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
   }
 }
 
-// The access rules of http_access.hpp, and the CORS preflight. False: answered here.
+// The access rules of http_access.hpp. False: answered here.
 bool HttpServer::Impl::admit(evhttp_request* req) {
   evkeyvalq* in = evhttp_request_get_input_headers(req);
   const AccessDecision decision =
       check_access(config.access, config.address, evhttp_find_header(in, "Host"),
                    evhttp_find_header(in, "Authorization"));
-  const bool preflight =
-      evhttp_request_get_command(req) == EVHTTP_REQ_OPTIONS && !config.access.cors_origin.empty();
-  if (decision == AccessDecision::Allow && !preflight) return true;
-  if (decision != AccessDecision::BadHost && preflight) {
-    // A preflight carries no credentials (Fetch standard): it only learns what is allowed.
-    evkeyvalq* out = evhttp_request_get_output_headers(req);
-    evhttp_add_header(out, "Access-Control-Allow-Methods", "GET");
-    evhttp_add_header(out, "Access-Control-Allow-Headers", "Authorization");
-    send_text(req, 204, "No Content", "");
-    return false;
-  }
+  // A CORS preflight carries no credentials (Fetch standard) and an OPTIONS answer tells
+  // only what is allowed, so OPTIONS needs the Host check alone.
+  const bool options = evhttp_request_get_command(req) == EVHTTP_REQ_OPTIONS;
+  if (decision == AccessDecision::Allow || (options && decision != AccessDecision::BadHost))
+    return true;
   {
     std::lock_guard lock(stats_mutex);
     ++refused;
@@ -431,19 +455,85 @@ void HttpServer::Impl::on_accept_error() {
   evtimer_add(resume_accept_event, &pause);
 }
 
+// ustreamer's OPTIONS: 200 with what may be asked, for any listed path; the CORS origin,
+// when configured, is added by send_body as on every answer.
+void HttpServer::Impl::serve_options(evhttp_request* req) {
+  evkeyvalq* out = evhttp_request_get_output_headers(req);
+  evhttp_add_header(out, "Allow", kAllowed);
+  evhttp_add_header(out, "Access-Control-Allow-Methods", kAllowed);
+  evhttp_add_header(out, "Access-Control-Allow-Headers", "Authorization");
+  send_text(req, HTTP_OK, "OK", "");
+}
+
+// ustreamer's snapshot headers: the capture time and the source's state and size.
+void HttpServer::Impl::add_frame_headers(evhttp_request* req) {
+  evkeyvalq* out = evhttp_request_get_output_headers(req);
+  const bool online = current && !current->value.no_signal;
+  if (current) {
+    evhttp_add_header(out, "X-Timestamp", seconds_text(current_wall_ns).c_str());
+    evhttp_add_header(out, "X-Timestamp-Monotonic",
+                      seconds_text(current->value.timestamp_ns).c_str());
+  } else {
+    evhttp_add_header(out, "X-Timestamp", seconds_text(wall_clock_now_ns()).c_str());
+  }
+  evhttp_add_header(out, "X-UStreamer-Online", online ? "true" : "false");
+  const JpegSize size = current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
+  evhttp_add_header(out, "X-UStreamer-Width", std::to_string(size.width).c_str());
+  evhttp_add_header(out, "X-UStreamer-Height", std::to_string(size.height).c_str());
+}
+
 void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
   on_frame();  // take a frame published a moment ago even if its wake-up is still queued
-  if (!current) {
-    evhttp_add_header(evhttp_request_get_output_headers(req), "Retry-After", "1");
-    send_text(req, 503, "Service Unavailable", "no frame yet: the pipeline has not produced one\n");
-    return;
+  // Before the first frame ustreamer answers 200 with a blank frame and
+  // X-UStreamer-Online: false rather than an error: its clients poll and show what they get.
+  if (!current && !placeholder) {
+    try {
+      placeholder = placeholder_jpeg(kPlaceholderWidth, kPlaceholderHeight, config.jpeg_quality);
+    } catch (const std::exception& e) {
+      send_text(req, HTTP_INTERNAL, "Internal Server Error",
+                std::string("placeholder: ") + e.what() + "\n");
+      return;
+    }
   }
-  evhttp_add_header(evhttp_request_get_output_headers(req), "X-Timestamp",
-                    timestamp_text(current->value.timestamp_ns).c_str());
+  add_frame_headers(req);
   evbuffer* body = evbuffer_new();
-  add_jpeg_reference(body, current->value.jpeg);
+  add_jpeg_reference(body, current ? current->value.jpeg : placeholder);
   send_body(req, HTTP_OK, "OK", "image/jpeg", body);
   evbuffer_free(body);
+}
+
+void HttpServer::Impl::serve_state(evhttp_request* req) {
+  on_frame();
+  UstreamerState state;
+  state.quality = config.jpeg_quality;
+  state.online = current && !current->value.no_signal;
+  state.resolution = current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
+  const TimestampNs now = monotonic_now_ns();
+  state.queued_fps = published_rate.rate_hz(now);
+  state.captured_fps = state.queued_fps;
+  std::string text;
+  try {
+    // The pipeline's own rate when the service reports one: frames captured and processed,
+    // not only those that reached this server.
+    if (status) {
+      const nlohmann::json s = status();
+      if (s.is_object() && s.contains("fps") && s["fps"].is_number())
+        state.captured_fps = s["fps"].get<double>();
+    }
+    for (const auto& c : clients) {
+      if (c->request == nullptr) continue;
+      state.clients.push_back({c->id, c->sent_rate.rate_hz(now), c->options});
+    }
+    text = to_json(state).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  } catch (const std::exception& e) {
+    send_text(req, HTTP_INTERNAL, "Internal Server Error",
+              std::string("state: ") + e.what() + "\n");
+    return;
+  }
+  evbuffer* buf = evbuffer_new();
+  evbuffer_add(buf, text.data(), text.size());
+  send_body(req, HTTP_OK, "OK", "application/json", buf);
+  evbuffer_free(buf);
 }
 
 void HttpServer::Impl::serve_status(evhttp_request* req) {
@@ -469,6 +559,14 @@ void HttpServer::Impl::serve_status(evhttp_request* req) {
 void HttpServer::Impl::serve_stream(evhttp_request* req) {
   evhttp_connection* conn = evhttp_request_get_connection(req);
   if (conn == nullptr) return;
+  if (evhttp_request_get_command(req) == EVHTTP_REQ_HEAD) {
+    // The stream's headers and no part: nothing is registered, no slot is taken, and no
+    // Content-Length (a stream has none).
+    add_common_headers(evhttp_request_get_output_headers(req),
+                       (std::string("multipart/x-mixed-replace;boundary=") + kBoundary).c_str());
+    evhttp_send_reply(req, HTTP_OK, "OK", nullptr);
+    return;
+  }
   if (clients.size() >= static_cast<std::size_t>(config.max_stream_clients)) {
     evhttp_add_header(evhttp_request_get_output_headers(req), "Retry-After", "5");
     send_text(req, 503, "Service Unavailable", "too many stream clients\n");
@@ -506,6 +604,11 @@ void HttpServer::Impl::serve_stream(evhttp_request* req) {
   client->connected_ns = monotonic_now_ns();
   client->peer_address = peer_address;
   client->peer = peer_address + ":" + std::to_string(port_number);
+  const evhttp_uri* uri = evhttp_request_get_evhttp_uri(req);
+  client->options = parse_stream_options(uri ? evhttp_uri_get_query(uri) : nullptr);
+  char id[24];
+  std::snprintf(id, sizeof id, "%llx", static_cast<unsigned long long>(++next_client_id));
+  client->id = id;
 
   // A stream never reads again, so no read timeout; a write timeout drops a dead client.
   bufferevent* bev = evhttp_connection_get_bufferevent(conn);
@@ -538,13 +641,26 @@ void HttpServer::Impl::offer(StreamClient& client) {
   }
 
   const EncodedFrame& frame = current->value;
+  const TimestampNs now = monotonic_now_ns();
   evbuffer* part = evbuffer_new();
-  evbuffer_add_printf(part,
-                      "--%s\r\nContent-Type: image/jpeg\r\nContent-Length: %zu\r\n"
-                      "X-Timestamp: %s\r\n\r\n",
-                      kBoundary, frame.jpeg->size(), timestamp_text(frame.timestamp_ns).c_str());
+  std::string head;
+  if (!client.options.advance_headers) {
+    head = stream_part_head({.length = frame.jpeg->size(),
+                             .capture_ns = frame.timestamp_ns,
+                             .capture_wall_ns = current_wall_ns,
+                             .online = !frame.no_signal,
+                             .size = current_size},
+                            client.options.extra_headers, client.sent_rate.rate_hz(now));
+  } else if (client.frames_sent == 0) {
+    head = advance_part_head();  // later parts' heads went out after the frame before
+  }
+  evbuffer_add(part, head.data(), head.size());
   add_jpeg_reference(part, frame.jpeg);
   evbuffer_add(part, "\r\n", 2);
+  if (client.options.advance_headers) {
+    const std::string next = advance_part_head();
+    evbuffer_add(part, next.data(), next.size());
+  }
   const std::size_t part_bytes = evbuffer_get_length(part);
   evhttp_send_reply_chunk_with_cb(client.request, part, on_stream_drained_cb, &client);
   evbuffer_free(part);
@@ -555,6 +671,7 @@ void HttpServer::Impl::offer(StreamClient& client) {
   if (client.last_sent > 0) client.skipped += current->sequence - client.last_sent - 1;
   client.last_sent = current->sequence;
   ++client.frames_sent;
+  client.sent_rate.tick(now);
   client.bytes_added += after > buffered ? after - buffered : part_bytes;
   client.queued_parts.emplace_back(client.bytes_added, monotonic_now_ns());
   client.buffered = after;
@@ -613,6 +730,8 @@ void HttpServer::Impl::on_frame() {
   auto item = frames.try_newer(after);
   if (!item) return;
   current = std::move(item);
+  current_size = jpeg_size(*current->value.jpeg).value_or(JpegSize{});
+  current_wall_ns = wall_clock_ns(current->value.timestamp_ns);
   for (auto& client : clients) offer(*client);
 }
 
@@ -710,6 +829,7 @@ std::string HttpServer::url() const {
 
 void HttpServer::publish(EncodedFrame frame) {
   if (!frame.jpeg || frame.jpeg->empty()) return;
+  impl_->published_rate.tick(monotonic_now_ns());
   impl_->frames.publish(std::move(frame));
   std::lock_guard lock(impl_->wake_mutex);
   if (impl_->running) event_active(impl_->frame_event, EV_READ, 0);
