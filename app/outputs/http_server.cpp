@@ -27,6 +27,7 @@
 
 #include "app/outputs/http_compat.hpp"
 #include "app/outputs/http_connections.hpp"
+#include "app/outputs/http_metrics.hpp"
 #include "app/outputs/viewer_page.hpp"
 #include "app/service/heartbeat.hpp"
 #include "base/latest_frame.hpp"
@@ -49,13 +50,14 @@ constexpr int kPlaceholderHeight = 480;
 // What every route accepts (ustreamer's set); the rest get 405.
 constexpr const char* kAllowed = "GET, HEAD, OPTIONS";
 
-enum class Route { Index, Stream, Snapshot, Status, State, NotFound };
+enum class Route { Index, Stream, Snapshot, Status, State, Metrics, NotFound };
 
 Route route_for(std::string_view path, const char* query) {
   if (path == "/stream") return Route::Stream;
   if (path == "/snapshot") return Route::Snapshot;
   if (path == "/status") return Route::Status;
   if (path == "/state") return Route::State;
+  if (path == "/metrics") return Route::Metrics;
   if (path != "/") return Route::NotFound;
   if (query == nullptr || *query == '\0') return Route::Index;
   // mjpg-streamer's URLs: /?action=stream, /?action=snapshot.
@@ -186,6 +188,7 @@ struct HttpServer::Impl {
   void serve_snapshot(evhttp_request* req);
   void serve_status(evhttp_request* req);
   void serve_state(evhttp_request* req);
+  void serve_metrics(evhttp_request* req);
   void serve_options(evhttp_request* req);
   void add_frame_headers(evhttp_request* req);
   void add_common_headers(evkeyvalq* headers, const char* content_type);
@@ -404,6 +407,9 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
     case Route::State:
       serve_state(req);
       return;
+    case Route::Metrics:
+      serve_metrics(req);
+      return;
     case Route::Index: {
       evbuffer* body = evbuffer_new();
       const std::string_view page = viewer_html();
@@ -553,6 +559,22 @@ void HttpServer::Impl::serve_status(evhttp_request* req) {
   evbuffer* buf = evbuffer_new();
   evbuffer_add(buf, text.data(), text.size());
   send_body(req, HTTP_OK, "OK", "application/json", buf);
+  evbuffer_free(buf);
+}
+
+// The same numbers as /status, from the same callback, in Prometheus' text format.
+void HttpServer::Impl::serve_metrics(evhttp_request* req) {
+  std::string text;
+  try {
+    text = prometheus_text(status ? status() : nlohmann::json::object(), stats());
+  } catch (const std::exception& e) {
+    send_text(req, HTTP_INTERNAL, "Internal Server Error",
+              std::string("metrics: ") + e.what() + "\n");
+    return;
+  }
+  evbuffer* buf = evbuffer_new();
+  evbuffer_add(buf, text.data(), text.size());
+  send_body(req, HTTP_OK, "OK", kMetricsContentType, buf);
   evbuffer_free(buf);
 }
 

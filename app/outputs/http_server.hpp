@@ -7,6 +7,7 @@
 //   GET /snapshot  (also /?action=snapshot)  one JPEG; a NO SIGNAL one before the first frame
 //   GET /status    JSON: the service's status callback plus this server's counters
 //   GET /state     ustreamer's JSON (app/outputs/http_compat.hpp)
+//   GET /metrics   /status in Prometheus' text format (app/outputs/http_metrics.hpp)
 //   GET /          a self-contained viewer page (the stream and the status table)
 //
 // HEAD answers any of them without the body, OPTIONS with what is allowed (ustreamer's).
