@@ -25,13 +25,8 @@
 #include <system_error>
 #include <thread>
 
-#include "app/outputs/http_compat.hpp"
-#include "app/outputs/http_connections.hpp"
-#include "app/outputs/http_metrics.hpp"
+#include "app/outputs/http_server_impl.hpp"
 #include "app/outputs/viewer_page.hpp"
-#include "app/service/heartbeat.hpp"
-#include "base/latest_frame.hpp"
-#include "base/stage_stats.hpp"
 
 namespace probeless {
 namespace {
@@ -43,12 +38,6 @@ constexpr const char* kNoCache =
 // A stream connection reads nothing after its request; this bounds what a client that
 // keeps sending anyway can make us buffer.
 constexpr std::size_t kStreamInputLimit = std::size_t{64} * 1024;
-
-// ustreamer's placeholder size before any frame has told us the real one (its default).
-constexpr int kPlaceholderWidth = 640;
-constexpr int kPlaceholderHeight = 480;
-// What every route accepts (ustreamer's set); the rest get 405.
-constexpr const char* kAllowed = "GET, HEAD, OPTIONS";
 
 enum class Route { Index, Stream, Snapshot, Status, State, Metrics, NotFound };
 
@@ -71,19 +60,6 @@ Route route_for(std::string_view path, const char* query) {
   }
   evhttp_clear_headers(&params);
   return route;
-}
-
-// Lets clients share one JPEG without a copy: the evbuffer holds a reference to the bytes
-// and a heap-held shared_ptr that keeps them alive until libevent has written them.
-void add_jpeg_reference(evbuffer* buf,
-                        const std::shared_ptr<const std::vector<std::uint8_t>>& jpeg) {
-  auto* keep = new std::shared_ptr<const std::vector<std::uint8_t>>(jpeg);
-  evbuffer_add_reference(
-      buf, jpeg->data(), jpeg->size(),
-      [](const void*, size_t, void* arg) {
-        delete static_cast<std::shared_ptr<const std::vector<std::uint8_t>>*>(arg);
-      },
-      keep);
 }
 
 int open_listener(const std::string& address, int port) {
@@ -120,87 +96,6 @@ int bound_port(int fd) {
 }
 
 }  // namespace
-
-struct StreamClient {
-  HttpServer::Impl* server = nullptr;
-  evhttp_request* request = nullptr;  // null once libevent has finished with it
-  std::string peer;                   // "address:port"
-  std::string peer_address;           // for the per-address stream cap
-  std::string id;                     // ustreamer's client id in /state
-  StreamOptions options;              // from the stream URL's query
-  RateMeter sent_rate;                // frames sent, for X-UStreamer-Client-FPS and /state
-  TimestampNs connected_ns = 0;
-  LatestFrame<EncodedFrame>::Sequence last_sent = 0;
-  std::uint64_t frames_sent = 0;
-  std::uint64_t skipped = 0;  // frames between two sent ones
-  std::size_t buffered = 0;   // output not yet taken by the kernel, as of the last look
-  // The slow-reader rule (stalled_client_timeout): every byte our output buffer ever took for
-  // this client, chunk framing included, and for each part not yet handed whole to the
-  // kernel, that count just after it and when it was queued. The buffer is a FIFO: a part is
-  // out once fewer bytes remain in it than were added after the part.
-  std::uint64_t bytes_added = 0;
-  std::deque<std::pair<std::uint64_t, TimestampNs>> queued_parts;
-};
-
-struct HttpServer::Impl {
-  HttpServerConfig config;
-  StatusCallback status;
-  LatestFrame<EncodedFrame> frames;
-
-  event_base* base = nullptr;
-  evhttp* http = nullptr;
-  event* frame_event = nullptr;
-  event* stop_event = nullptr;
-  event* resume_accept_event = nullptr;  // re-enables the listener after an accept failure
-  evconnlistener* listener = nullptr;
-  std::unique_ptr<HttpConnections> connections;
-  int port = 0;
-  std::thread thread;
-
-  std::mutex wake_mutex;  // publish() and stop(): the events exist while `running`
-  bool running = false;
-
-  // The server thread's state; stats_mutex guards what stats() reads from other threads.
-  std::optional<LatestFrame<EncodedFrame>::Item> current;
-  JpegSize current_size;            // read from the current frame's JPEG
-  TimestampNs current_wall_ns = 0;  // its capture time on the wall clock, converted once
-  std::shared_ptr<const std::vector<std::uint8_t>> placeholder;  // made at the first need
-  std::uint64_t next_client_id = 0;
-  RateMeter published_rate;  // frames handed to publish(): /state's queued_fps
-  std::list<std::unique_ptr<StreamClient>> clients;
-  mutable std::mutex stats_mutex;
-  std::uint64_t requests = 0;
-  std::uint64_t refused = 0;
-  std::uint64_t accept_failures = 0;
-  std::uint64_t slow_streams_dropped = 0;
-  HttpConnectionCounts connection_counts;  // a copy for stats(), updated each sweep
-  std::uint64_t bytes_queued = 0;          // every response body and stream part
-  std::uint64_t bytes_dropped = 0;         // queued to clients that closed before taking it
-  Heartbeat heartbeat;                     // beaten on the server thread by watch()'s timer
-
-  void setup();
-  void teardown();
-  void on_request(evhttp_request* req);
-  void on_frame();
-  void on_accept_error();
-  bool admit(evhttp_request* req);
-  void serve_stream(evhttp_request* req);
-  void serve_snapshot(evhttp_request* req);
-  void serve_status(evhttp_request* req);
-  void serve_state(evhttp_request* req);
-  void serve_metrics(evhttp_request* req);
-  void serve_options(evhttp_request* req);
-  void add_frame_headers(evhttp_request* req);
-  void add_common_headers(evkeyvalq* headers, const char* content_type);
-  void send_body(evhttp_request* req, int code, const char* reason, const char* content_type,
-                 evbuffer* body);
-  void send_text(evhttp_request* req, int code, const char* reason, const std::string& text);
-  void offer(StreamClient& client);
-  void drained(StreamClient& client);
-  void drop_slow_streams();
-  void remove(StreamClient* client);
-  HttpServerStats stats() const;
-};
 
 namespace {
 
@@ -459,123 +354,6 @@ void HttpServer::Impl::on_accept_error() {
   const auto ms = config.accept_backoff.count();
   const timeval pause{static_cast<time_t>(ms / 1000), static_cast<suseconds_t>(ms % 1000 * 1000)};
   evtimer_add(resume_accept_event, &pause);
-}
-
-// ustreamer's OPTIONS: 200 with what may be asked, for any listed path; the CORS origin,
-// when configured, is added by send_body as on every answer.
-void HttpServer::Impl::serve_options(evhttp_request* req) {
-  evkeyvalq* out = evhttp_request_get_output_headers(req);
-  evhttp_add_header(out, "Allow", kAllowed);
-  evhttp_add_header(out, "Access-Control-Allow-Methods", kAllowed);
-  evhttp_add_header(out, "Access-Control-Allow-Headers", "Authorization");
-  send_text(req, HTTP_OK, "OK", "");
-}
-
-// ustreamer's snapshot headers: the capture time and the source's state and size.
-void HttpServer::Impl::add_frame_headers(evhttp_request* req) {
-  evkeyvalq* out = evhttp_request_get_output_headers(req);
-  const bool online = current && !current->value.no_signal;
-  if (current) {
-    evhttp_add_header(out, "X-Timestamp", seconds_text(current_wall_ns).c_str());
-    evhttp_add_header(out, "X-Timestamp-Monotonic",
-                      seconds_text(current->value.timestamp_ns).c_str());
-  } else {
-    evhttp_add_header(out, "X-Timestamp", seconds_text(wall_clock_now_ns()).c_str());
-  }
-  evhttp_add_header(out, "X-UStreamer-Online", online ? "true" : "false");
-  const JpegSize size = current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
-  evhttp_add_header(out, "X-UStreamer-Width", std::to_string(size.width).c_str());
-  evhttp_add_header(out, "X-UStreamer-Height", std::to_string(size.height).c_str());
-}
-
-void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
-  on_frame();  // take a frame published a moment ago even if its wake-up is still queued
-  // Before the first frame ustreamer answers 200 with a blank frame and
-  // X-UStreamer-Online: false rather than an error: its clients poll and show what they get.
-  if (!current && !placeholder) {
-    try {
-      placeholder = placeholder_jpeg(kPlaceholderWidth, kPlaceholderHeight, config.jpeg_quality);
-    } catch (const std::exception& e) {
-      send_text(req, HTTP_INTERNAL, "Internal Server Error",
-                std::string("placeholder: ") + e.what() + "\n");
-      return;
-    }
-  }
-  add_frame_headers(req);
-  evbuffer* body = evbuffer_new();
-  add_jpeg_reference(body, current ? current->value.jpeg : placeholder);
-  send_body(req, HTTP_OK, "OK", "image/jpeg", body);
-  evbuffer_free(body);
-}
-
-void HttpServer::Impl::serve_state(evhttp_request* req) {
-  on_frame();
-  UstreamerState state;
-  state.quality = config.jpeg_quality;
-  state.online = current && !current->value.no_signal;
-  state.resolution = current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
-  const TimestampNs now = monotonic_now_ns();
-  state.queued_fps = published_rate.rate_hz(now);
-  state.captured_fps = state.queued_fps;
-  std::string text;
-  try {
-    // The pipeline's own rate when the service reports one: frames captured and processed,
-    // not only those that reached this server.
-    if (status) {
-      const nlohmann::json s = status();
-      if (s.is_object() && s.contains("fps") && s["fps"].is_number())
-        state.captured_fps = s["fps"].get<double>();
-    }
-    for (const auto& c : clients) {
-      if (c->request == nullptr) continue;
-      state.clients.push_back({c->id, c->sent_rate.rate_hz(now), c->options});
-    }
-    text = to_json(state).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  } catch (const std::exception& e) {
-    send_text(req, HTTP_INTERNAL, "Internal Server Error",
-              std::string("state: ") + e.what() + "\n");
-    return;
-  }
-  evbuffer* buf = evbuffer_new();
-  evbuffer_add(buf, text.data(), text.size());
-  send_body(req, HTTP_OK, "OK", "application/json", buf);
-  evbuffer_free(buf);
-}
-
-void HttpServer::Impl::serve_status(evhttp_request* req) {
-  std::string text;
-  try {
-    nlohmann::json body = status ? status() : nlohmann::json::object();
-    if (!body.is_object()) body = nlohmann::json{{"service", std::move(body)}};
-    body["http"] = to_json(stats());
-    // A device or file name in the status may not be UTF-8: replaced (U+FFFD), since dump()
-    // would throw, and no exception may reach libevent.
-    text = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  } catch (const std::exception& e) {
-    send_text(req, HTTP_INTERNAL, "Internal Server Error",
-              std::string("status: ") + e.what() + "\n");
-    return;
-  }
-  evbuffer* buf = evbuffer_new();
-  evbuffer_add(buf, text.data(), text.size());
-  send_body(req, HTTP_OK, "OK", "application/json", buf);
-  evbuffer_free(buf);
-}
-
-// The same numbers as /status, from the same callback, in Prometheus' text format.
-void HttpServer::Impl::serve_metrics(evhttp_request* req) {
-  std::string text;
-  try {
-    text = prometheus_text(status ? status() : nlohmann::json::object(), stats());
-  } catch (const std::exception& e) {
-    send_text(req, HTTP_INTERNAL, "Internal Server Error",
-              std::string("metrics: ") + e.what() + "\n");
-    return;
-  }
-  evbuffer* buf = evbuffer_new();
-  evbuffer_add(buf, text.data(), text.size());
-  send_body(req, HTTP_OK, "OK", kMetricsContentType, buf);
-  evbuffer_free(buf);
 }
 
 void HttpServer::Impl::serve_stream(evhttp_request* req) {
