@@ -22,6 +22,7 @@ struct RunArgs {
   std::string out_dir;
   std::string occlusion;
   std::string address;
+  std::string allow_origin;  // ustreamer's --allow-origin: [http] cors_origin
   int port = -1;
   std::int64_t frames = 0;
   bool matte = false;
@@ -57,6 +58,7 @@ void run(const RunArgs& args) {
   if (!args.occlusion.empty()) config.occlusion_method = args.occlusion;
   if (!args.address.empty()) config.http.address = args.address;
   if (args.port >= 0) config.http.port = args.port;
+  if (!args.allow_origin.empty()) config.http.access.cors_origin = args.allow_origin;
   if (args.frames > 0) config.max_frames = args.frames;
   if (args.matte) config.files.write_matte = true;
   // Under probeless.socket systemd has bound the port: that socket wins over [http] and
@@ -141,6 +143,9 @@ void add_run_command(CLI::App& app) {
   cmd->add_option("--address", args->address, "HTTP bind address (default 127.0.0.1)");
   cmd->add_option("--port", args->port, "HTTP port (default 8080, 0 = any free port)")
       ->check(CLI::Range(0, 65535));
+  cmd->add_option("--allow-origin", args->allow_origin,
+                  "HTTP: an origin whose scripts may read the responses (Access-Control-Allow-"
+                  "Origin; [http] cors_origin, ustreamer's flag)");
   cmd->callback([args] { run(*args); });
 }
 

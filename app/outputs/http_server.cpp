@@ -25,16 +25,13 @@
 #include <system_error>
 #include <thread>
 
-#include "app/outputs/http_connections.hpp"
+#include "app/outputs/http_server_impl.hpp"
 #include "app/outputs/viewer_page.hpp"
-#include "app/service/heartbeat.hpp"
-#include "base/latest_frame.hpp"
 
 namespace probeless {
 namespace {
 
-// mjpg-streamer's boundary, which ustreamer kept: some clients were written against it.
-constexpr const char* kBoundary = "boundarydonotcross";
+constexpr const char* kBoundary = kStreamBoundary;
 constexpr const char* kNoCache =
     "no-store, no-cache, must-revalidate, proxy-revalidate, pre-check=0, post-check=0, "
     "max-age=0";
@@ -42,12 +39,14 @@ constexpr const char* kNoCache =
 // keeps sending anyway can make us buffer.
 constexpr std::size_t kStreamInputLimit = std::size_t{64} * 1024;
 
-enum class Route { Index, Stream, Snapshot, Status, NotFound };
+enum class Route { Index, Stream, Snapshot, Status, State, Metrics, NotFound };
 
 Route route_for(std::string_view path, const char* query) {
   if (path == "/stream") return Route::Stream;
   if (path == "/snapshot") return Route::Snapshot;
   if (path == "/status") return Route::Status;
+  if (path == "/state") return Route::State;
+  if (path == "/metrics") return Route::Metrics;
   if (path != "/") return Route::NotFound;
   if (query == nullptr || *query == '\0') return Route::Index;
   // mjpg-streamer's URLs: /?action=stream, /?action=snapshot.
@@ -61,26 +60,6 @@ Route route_for(std::string_view path, const char* query) {
   }
   evhttp_clear_headers(&params);
   return route;
-}
-
-std::string timestamp_text(TimestampNs ns) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%lld.%06lld", static_cast<long long>(ns / 1000000000),
-                static_cast<long long>(ns % 1000000000 / 1000));
-  return text;
-}
-
-// Lets clients share one JPEG without a copy: the evbuffer holds a reference to the bytes
-// and a heap-held shared_ptr that keeps them alive until libevent has written them.
-void add_jpeg_reference(evbuffer* buf,
-                        const std::shared_ptr<const std::vector<std::uint8_t>>& jpeg) {
-  auto* keep = new std::shared_ptr<const std::vector<std::uint8_t>>(jpeg);
-  evbuffer_add_reference(
-      buf, jpeg->data(), jpeg->size(),
-      [](const void*, size_t, void* arg) {
-        delete static_cast<std::shared_ptr<const std::vector<std::uint8_t>>*>(arg);
-      },
-      keep);
 }
 
 int open_listener(const std::string& address, int port) {
@@ -117,74 +96,6 @@ int bound_port(int fd) {
 }
 
 }  // namespace
-
-struct StreamClient {
-  HttpServer::Impl* server = nullptr;
-  evhttp_request* request = nullptr;  // null once libevent has finished with it
-  std::string peer;                   // "address:port"
-  std::string peer_address;           // for the per-address stream cap
-  TimestampNs connected_ns = 0;
-  LatestFrame<EncodedFrame>::Sequence last_sent = 0;
-  std::uint64_t frames_sent = 0;
-  std::uint64_t skipped = 0;  // frames between two sent ones
-  std::size_t buffered = 0;   // output not yet taken by the kernel, as of the last look
-  // The slow-reader rule (stalled_client_timeout): every byte our output buffer ever took for
-  // this client, chunk framing included, and for each part not yet handed whole to the
-  // kernel, that count just after it and when it was queued. The buffer is a FIFO: a part is
-  // out once fewer bytes remain in it than were added after the part.
-  std::uint64_t bytes_added = 0;
-  std::deque<std::pair<std::uint64_t, TimestampNs>> queued_parts;
-};
-
-struct HttpServer::Impl {
-  HttpServerConfig config;
-  StatusCallback status;
-  LatestFrame<EncodedFrame> frames;
-
-  event_base* base = nullptr;
-  evhttp* http = nullptr;
-  event* frame_event = nullptr;
-  event* stop_event = nullptr;
-  event* resume_accept_event = nullptr;  // re-enables the listener after an accept failure
-  evconnlistener* listener = nullptr;
-  std::unique_ptr<HttpConnections> connections;
-  int port = 0;
-  std::thread thread;
-
-  std::mutex wake_mutex;  // publish() and stop(): the events exist while `running`
-  bool running = false;
-
-  // The server thread's state; stats_mutex guards what stats() reads from other threads.
-  std::optional<LatestFrame<EncodedFrame>::Item> current;
-  std::list<std::unique_ptr<StreamClient>> clients;
-  mutable std::mutex stats_mutex;
-  std::uint64_t requests = 0;
-  std::uint64_t refused = 0;
-  std::uint64_t accept_failures = 0;
-  std::uint64_t slow_streams_dropped = 0;
-  HttpConnectionCounts connection_counts;  // a copy for stats(), updated each sweep
-  std::uint64_t bytes_queued = 0;          // every response body and stream part
-  std::uint64_t bytes_dropped = 0;         // queued to clients that closed before taking it
-  Heartbeat heartbeat;                     // beaten on the server thread by watch()'s timer
-
-  void setup();
-  void teardown();
-  void on_request(evhttp_request* req);
-  void on_frame();
-  void on_accept_error();
-  bool admit(evhttp_request* req);
-  void serve_stream(evhttp_request* req);
-  void serve_snapshot(evhttp_request* req);
-  void serve_status(evhttp_request* req);
-  void send_body(evhttp_request* req, int code, const char* reason, const char* content_type,
-                 evbuffer* body);
-  void send_text(evhttp_request* req, int code, const char* reason, const std::string& text);
-  void offer(StreamClient& client);
-  void drained(StreamClient& client);
-  void drop_slow_streams();
-  void remove(StreamClient* client);
-  HttpServerStats stats() const;
-};
 
 namespace {
 
@@ -320,13 +231,22 @@ void HttpServer::Impl::teardown() {
   base = nullptr;
 }
 
-void HttpServer::Impl::send_body(evhttp_request* req, int code, const char* reason,
-                                 const char* content_type, evbuffer* body) {
-  evkeyvalq* headers = evhttp_request_get_output_headers(req);
+void HttpServer::Impl::add_common_headers(evkeyvalq* headers, const char* content_type) {
   evhttp_add_header(headers, "Content-Type", content_type);
   evhttp_add_header(headers, "Cache-Control", kNoCache);
   if (!config.access.cors_origin.empty())
     evhttp_add_header(headers, "Access-Control-Allow-Origin", config.access.cors_origin.c_str());
+}
+
+void HttpServer::Impl::send_body(evhttp_request* req, int code, const char* reason,
+                                 const char* content_type, evbuffer* body) {
+  evkeyvalq* headers = evhttp_request_get_output_headers(req);
+  add_common_headers(headers, content_type);
+  if (evhttp_request_get_command(req) == EVHTTP_REQ_HEAD) {
+    // The headers a GET would get, Content-Length included, and no body (RFC 9110 9.3.2).
+    evhttp_add_header(headers, "Content-Length", std::to_string(evbuffer_get_length(body)).c_str());
+    evbuffer_drain(body, evbuffer_get_length(body));
+  }
   {
     std::lock_guard lock(stats_mutex);
     bytes_queued += evbuffer_get_length(body);
@@ -359,9 +279,14 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
     send_text(req, HTTP_NOTFOUND, "Not Found", "not found: " + std::string(p) + "\n");
     return;
   }
-  if (evhttp_request_get_command(req) != EVHTTP_REQ_GET) {
-    evhttp_add_header(evhttp_request_get_output_headers(req), "Allow", "GET");
-    send_text(req, 405, "Method Not Allowed", "only GET is served here\n");
+  const evhttp_cmd_type method = evhttp_request_get_command(req);
+  if (method == EVHTTP_REQ_OPTIONS) {
+    serve_options(req);
+    return;
+  }
+  if (method != EVHTTP_REQ_GET && method != EVHTTP_REQ_HEAD) {
+    evhttp_add_header(evhttp_request_get_output_headers(req), "Allow", kAllowed);
+    send_text(req, 405, "Method Not Allowed", "only GET, HEAD and OPTIONS are served here\n");
     return;
   }
   switch (route) {
@@ -373,6 +298,12 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
       return;
     case Route::Status:
       serve_status(req);
+      return;
+    case Route::State:
+      serve_state(req);
+      return;
+    case Route::Metrics:
+      serve_metrics(req);
       return;
     case Route::Index: {
       evbuffer* body = evbuffer_new();
@@ -387,23 +318,17 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
   }
 }
 
-// The access rules of http_access.hpp, and the CORS preflight. False: answered here.
+// The access rules of http_access.hpp. False: answered here.
 bool HttpServer::Impl::admit(evhttp_request* req) {
   evkeyvalq* in = evhttp_request_get_input_headers(req);
   const AccessDecision decision =
       check_access(config.access, config.address, evhttp_find_header(in, "Host"),
                    evhttp_find_header(in, "Authorization"));
-  const bool preflight =
-      evhttp_request_get_command(req) == EVHTTP_REQ_OPTIONS && !config.access.cors_origin.empty();
-  if (decision == AccessDecision::Allow && !preflight) return true;
-  if (decision != AccessDecision::BadHost && preflight) {
-    // A preflight carries no credentials (Fetch standard): it only learns what is allowed.
-    evkeyvalq* out = evhttp_request_get_output_headers(req);
-    evhttp_add_header(out, "Access-Control-Allow-Methods", "GET");
-    evhttp_add_header(out, "Access-Control-Allow-Headers", "Authorization");
-    send_text(req, 204, "No Content", "");
-    return false;
-  }
+  // A CORS preflight carries no credentials (Fetch standard) and an OPTIONS answer tells
+  // only what is allowed, so OPTIONS needs the Host check alone.
+  const bool options = evhttp_request_get_command(req) == EVHTTP_REQ_OPTIONS;
+  if (decision == AccessDecision::Allow || (options && decision != AccessDecision::BadHost))
+    return true;
   {
     std::lock_guard lock(stats_mutex);
     ++refused;
@@ -431,44 +356,17 @@ void HttpServer::Impl::on_accept_error() {
   evtimer_add(resume_accept_event, &pause);
 }
 
-void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
-  on_frame();  // take a frame published a moment ago even if its wake-up is still queued
-  if (!current) {
-    evhttp_add_header(evhttp_request_get_output_headers(req), "Retry-After", "1");
-    send_text(req, 503, "Service Unavailable", "no frame yet: the pipeline has not produced one\n");
-    return;
-  }
-  evhttp_add_header(evhttp_request_get_output_headers(req), "X-Timestamp",
-                    timestamp_text(current->value.timestamp_ns).c_str());
-  evbuffer* body = evbuffer_new();
-  add_jpeg_reference(body, current->value.jpeg);
-  send_body(req, HTTP_OK, "OK", "image/jpeg", body);
-  evbuffer_free(body);
-}
-
-void HttpServer::Impl::serve_status(evhttp_request* req) {
-  std::string text;
-  try {
-    nlohmann::json body = status ? status() : nlohmann::json::object();
-    if (!body.is_object()) body = nlohmann::json{{"service", std::move(body)}};
-    body["http"] = to_json(stats());
-    // A device or file name in the status may not be UTF-8: replaced (U+FFFD), since dump()
-    // would throw, and no exception may reach libevent.
-    text = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  } catch (const std::exception& e) {
-    send_text(req, HTTP_INTERNAL, "Internal Server Error",
-              std::string("status: ") + e.what() + "\n");
-    return;
-  }
-  evbuffer* buf = evbuffer_new();
-  evbuffer_add(buf, text.data(), text.size());
-  send_body(req, HTTP_OK, "OK", "application/json", buf);
-  evbuffer_free(buf);
-}
-
 void HttpServer::Impl::serve_stream(evhttp_request* req) {
   evhttp_connection* conn = evhttp_request_get_connection(req);
   if (conn == nullptr) return;
+  if (evhttp_request_get_command(req) == EVHTTP_REQ_HEAD) {
+    // The stream's headers and no part: nothing is registered, no slot is taken, and no
+    // Content-Length (a stream has none).
+    add_common_headers(evhttp_request_get_output_headers(req),
+                       (std::string("multipart/x-mixed-replace;boundary=") + kBoundary).c_str());
+    evhttp_send_reply(req, HTTP_OK, "OK", nullptr);
+    return;
+  }
   if (clients.size() >= static_cast<std::size_t>(config.max_stream_clients)) {
     evhttp_add_header(evhttp_request_get_output_headers(req), "Retry-After", "5");
     send_text(req, 503, "Service Unavailable", "too many stream clients\n");
@@ -506,6 +404,11 @@ void HttpServer::Impl::serve_stream(evhttp_request* req) {
   client->connected_ns = monotonic_now_ns();
   client->peer_address = peer_address;
   client->peer = peer_address + ":" + std::to_string(port_number);
+  const evhttp_uri* uri = evhttp_request_get_evhttp_uri(req);
+  client->options = parse_stream_options(uri ? evhttp_uri_get_query(uri) : nullptr);
+  char id[24];
+  std::snprintf(id, sizeof id, "%llx", static_cast<unsigned long long>(++next_client_id));
+  client->id = id;
 
   // A stream never reads again, so no read timeout; a write timeout drops a dead client.
   bufferevent* bev = evhttp_connection_get_bufferevent(conn);
@@ -538,13 +441,26 @@ void HttpServer::Impl::offer(StreamClient& client) {
   }
 
   const EncodedFrame& frame = current->value;
+  const TimestampNs now = monotonic_now_ns();
   evbuffer* part = evbuffer_new();
-  evbuffer_add_printf(part,
-                      "--%s\r\nContent-Type: image/jpeg\r\nContent-Length: %zu\r\n"
-                      "X-Timestamp: %s\r\n\r\n",
-                      kBoundary, frame.jpeg->size(), timestamp_text(frame.timestamp_ns).c_str());
+  std::string head;
+  if (!client.options.advance_headers) {
+    head = stream_part_head({.length = frame.jpeg->size(),
+                             .capture_ns = frame.timestamp_ns,
+                             .capture_wall_ns = current_wall_ns,
+                             .online = !frame.no_signal,
+                             .size = current_size},
+                            client.options.extra_headers, client.sent_rate.rate_hz(now));
+  } else if (client.frames_sent == 0) {
+    head = advance_part_head();  // later parts' heads went out after the frame before
+  }
+  evbuffer_add(part, head.data(), head.size());
   add_jpeg_reference(part, frame.jpeg);
   evbuffer_add(part, "\r\n", 2);
+  if (client.options.advance_headers) {
+    const std::string next = advance_part_head();
+    evbuffer_add(part, next.data(), next.size());
+  }
   const std::size_t part_bytes = evbuffer_get_length(part);
   evhttp_send_reply_chunk_with_cb(client.request, part, on_stream_drained_cb, &client);
   evbuffer_free(part);
@@ -555,6 +471,7 @@ void HttpServer::Impl::offer(StreamClient& client) {
   if (client.last_sent > 0) client.skipped += current->sequence - client.last_sent - 1;
   client.last_sent = current->sequence;
   ++client.frames_sent;
+  client.sent_rate.tick(now);
   client.bytes_added += after > buffered ? after - buffered : part_bytes;
   client.queued_parts.emplace_back(client.bytes_added, monotonic_now_ns());
   client.buffered = after;
@@ -613,6 +530,8 @@ void HttpServer::Impl::on_frame() {
   auto item = frames.try_newer(after);
   if (!item) return;
   current = std::move(item);
+  current_size = jpeg_size(*current->value.jpeg).value_or(JpegSize{});
+  current_wall_ns = wall_clock_ns(current->value.timestamp_ns);
   for (auto& client : clients) offer(*client);
 }
 
@@ -710,6 +629,7 @@ std::string HttpServer::url() const {
 
 void HttpServer::publish(EncodedFrame frame) {
   if (!frame.jpeg || frame.jpeg->empty()) return;
+  impl_->published_rate.tick(monotonic_now_ns());
   impl_->frames.publish(std::move(frame));
   std::lock_guard lock(impl_->wake_mutex);
   if (impl_->running) event_active(impl_->frame_event, EV_READ, 0);

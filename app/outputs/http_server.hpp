@@ -4,9 +4,13 @@
 // expect (mjpg-streamer and ustreamer URLs and headers):
 //
 //   GET /stream    (also /?action=stream)    multipart/x-mixed-replace MJPEG
-//   GET /snapshot  (also /?action=snapshot)  one JPEG; 503 before the first frame
+//   GET /snapshot  (also /?action=snapshot)  one JPEG; a NO SIGNAL one before the first frame
 //   GET /status    JSON: the service's status callback plus this server's counters
+//   GET /state     ustreamer's JSON (app/outputs/http_compat.hpp)
+//   GET /metrics   /status in Prometheus' text format (app/outputs/http_metrics.hpp)
 //   GET /          a self-contained viewer page (the stream and the status table)
+//
+// HEAD answers any of them without the body, OPTIONS with what is allowed (ustreamer's).
 //
 // Frames arrive already encoded (once, whatever the number of clients) through publish()
 // (or offer(), as an Output of the pipeline, app/outputs/output.hpp), which never blocks: it
@@ -32,6 +36,7 @@ namespace probeless {
 struct EncodedFrame {
   std::shared_ptr<const std::vector<std::uint8_t>> jpeg;
   TimestampNs timestamp_ns = 0;  // the frame's capture time (CLOCK_MONOTONIC)
+  bool no_signal = false;        // the NO SIGNAL banner over the last good frame
 };
 
 // [http] of the service config (docs/configuration.md).
@@ -125,7 +130,9 @@ class HttpServer final : public Output {
   // Output: the JPEG at the configured quality, published as it comes.
   std::string_view name() const override { return "http"; }
   OutputNeeds needs() const override { return {.jpeg = true, .jpeg_quality = jpeg_quality_}; }
-  void offer(const OutputFrame& frame) override { publish({frame.jpeg, frame.timestamp_ns}); }
+  void offer(const OutputFrame& frame) override {
+    publish({frame.jpeg, frame.timestamp_ns, frame.no_signal});
+  }
 
   HttpServerStats stats() const;
 

@@ -84,11 +84,12 @@ TEST(HttpServer, ABusyPortIsAnErrorNamingTheAddress) {
   EXPECT_THROW(HttpServer{config}, HttpServerError);
 }
 
-TEST(HttpServer, SnapshotIs503UntilTheFirstFrameThenTheLatestJpeg) {
+// Before the first frame a placeholder, as ustreamer does (http_compat_test.cpp checks it).
+TEST(HttpServer, SnapshotIsAPlaceholderUntilTheFirstFrameThenTheLatestJpeg) {
   HttpServer server(ephemeral());
   auto r = http_get(server.port(), "/snapshot");
-  EXPECT_EQ(r.head.status, 503);
-  EXPECT_NE(r.body.find("no frame yet"), std::string::npos);
+  EXPECT_EQ(r.head.status, 200);
+  EXPECT_EQ(r.head.get("x-ustreamer-online"), "false");
 
   server.publish(encoded(testing::gradient_image(320, 240, 1), 1'500'000'000));
   server.publish(encoded(testing::gradient_image(640, 480, 2), 2'250'000'000));
@@ -96,7 +97,8 @@ TEST(HttpServer, SnapshotIs503UntilTheFirstFrameThenTheLatestJpeg) {
   ASSERT_EQ(r.head.status, 200);
   EXPECT_EQ(r.head.get("content-type"), "image/jpeg");
   EXPECT_NE(r.head.get("cache-control").find("no-store"), std::string::npos);
-  EXPECT_EQ(r.head.get("x-timestamp"), "2.250000");
+  EXPECT_EQ(r.head.get("x-timestamp-monotonic"), "2.250000");
+  EXPECT_EQ(r.head.get("x-ustreamer-online"), "true");
   JpegDecoder decoder;
   const ImageRGB8 image =
       decoder.decode({reinterpret_cast<const std::uint8_t*>(r.body.data()), r.body.size()});
@@ -155,7 +157,7 @@ TEST(HttpServer, ANewStreamClientGetsTheCurrentFrameAtOnce) {
   MjpegReader reader(server.port(), "/stream");
   auto part = reader.next(5s);  // nothing else is published
   ASSERT_TRUE(part);
-  EXPECT_EQ(part->headers["x-timestamp"], "42.000000");
+  EXPECT_EQ(part->headers["x-timestamp-monotonic"], "42.000000");
 }
 
 TEST(HttpServer, StatusMergesTheCallbackWithServerStats) {
@@ -229,16 +231,19 @@ TEST(HttpServer, ServesTheViewerPage) {
   EXPECT_EQ(r.body.find("https://"), std::string::npos);
 }
 
+// HEAD and OPTIONS are answered (ustreamer's; http_compat_test.cpp), the rest 405.
 TEST(HttpServer, UnknownPathsAre404AndOtherMethods405) {
   HttpServer server(ephemeral());
   EXPECT_EQ(http_get(server.port(), "/nope").head.status, 404);
   EXPECT_EQ(http_get(server.port(), "/?action=nope").head.status, 404);
   EXPECT_EQ(http_get(server.port(), "/stream/extra").head.status, 404);
-  for (const char* method : {"POST", "PUT", "DELETE", "HEAD"}) {
+  for (const char* method : {"POST", "PUT", "DELETE", "PATCH"}) {
     const auto r = http_request(server.port(), method, "/snapshot");
     EXPECT_EQ(r.head.status, 405) << method;
-    EXPECT_EQ(r.head.get("allow"), "GET") << method;
+    EXPECT_EQ(r.head.get("allow"), "GET, HEAD, OPTIONS") << method;
   }
+  EXPECT_EQ(http_request(server.port(), "HEAD", "/nope").head.status, 404);
+  EXPECT_EQ(http_request(server.port(), "OPTIONS", "/nope").head.status, 404);
   EXPECT_EQ(http_request(server.port(), "POST", "/stream").head.status, 405);
   EXPECT_EQ(http_request(server.port(), "POST", "/nope").head.status, 404);
 }

@@ -1,0 +1,131 @@
+// The HTTP server's one-shot answers (docs/outputs.md "HTTP"): the snapshot, /status,
+// ustreamer's /state and OPTIONS, and /metrics. Streams and the event loop are in
+// http_server.cpp.
+#include <event2/buffer.h>
+#include <event2/http.h>
+
+#include <string>
+
+#include "app/outputs/http_metrics.hpp"
+#include "app/outputs/http_server_impl.hpp"
+
+namespace probeless {
+
+// ustreamer's OPTIONS: 200 with what may be asked, for any listed path; the CORS origin,
+// when configured, is added by send_body as on every answer.
+void HttpServer::Impl::serve_options(evhttp_request* req) {
+  evkeyvalq* out = evhttp_request_get_output_headers(req);
+  evhttp_add_header(out, "Allow", kAllowed);
+  evhttp_add_header(out, "Access-Control-Allow-Methods", kAllowed);
+  evhttp_add_header(out, "Access-Control-Allow-Headers", "Authorization");
+  send_text(req, HTTP_OK, "OK", "");
+}
+
+// ustreamer's snapshot headers: the capture time and the source's state and size.
+void HttpServer::Impl::add_frame_headers(evhttp_request* req) {
+  evkeyvalq* out = evhttp_request_get_output_headers(req);
+  const bool online = current && !current->value.no_signal;
+  if (current) {
+    evhttp_add_header(out, "X-Timestamp", seconds_text(current_wall_ns).c_str());
+    evhttp_add_header(out, "X-Timestamp-Monotonic",
+                      seconds_text(current->value.timestamp_ns).c_str());
+  } else {
+    evhttp_add_header(out, "X-Timestamp", seconds_text(wall_clock_now_ns()).c_str());
+  }
+  evhttp_add_header(out, "X-UStreamer-Online", online ? "true" : "false");
+  const JpegSize size = current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
+  evhttp_add_header(out, "X-UStreamer-Width", std::to_string(size.width).c_str());
+  evhttp_add_header(out, "X-UStreamer-Height", std::to_string(size.height).c_str());
+}
+
+void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
+  on_frame();  // take a frame published a moment ago even if its wake-up is still queued
+  // Before the first frame ustreamer answers 200 with a blank frame and
+  // X-UStreamer-Online: false rather than an error: its clients poll and show what they get.
+  if (!current && !placeholder) {
+    try {
+      placeholder = placeholder_jpeg(kPlaceholderWidth, kPlaceholderHeight, config.jpeg_quality);
+    } catch (const std::exception& e) {
+      send_text(req, HTTP_INTERNAL, "Internal Server Error",
+                std::string("placeholder: ") + e.what() + "\n");
+      return;
+    }
+  }
+  add_frame_headers(req);
+  evbuffer* body = evbuffer_new();
+  add_jpeg_reference(body, current ? current->value.jpeg : placeholder);
+  send_body(req, HTTP_OK, "OK", "image/jpeg", body);
+  evbuffer_free(body);
+}
+
+void HttpServer::Impl::serve_state(evhttp_request* req) {
+  on_frame();
+  UstreamerState state;
+  state.quality = config.jpeg_quality;
+  state.online = current && !current->value.no_signal;
+  state.resolution = current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
+  const TimestampNs now = monotonic_now_ns();
+  state.queued_fps = published_rate.rate_hz(now);
+  state.captured_fps = state.queued_fps;
+  std::string text;
+  try {
+    // The pipeline's own rate when the service reports one: frames captured and processed,
+    // not only those that reached this server.
+    if (status) {
+      const nlohmann::json s = status();
+      if (s.is_object() && s.contains("fps") && s["fps"].is_number())
+        state.captured_fps = s["fps"].get<double>();
+    }
+    for (const auto& c : clients) {
+      if (c->request == nullptr) continue;
+      state.clients.push_back({c->id, c->sent_rate.rate_hz(now), c->options});
+    }
+    text = to_json(state).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  } catch (const std::exception& e) {
+    send_text(req, HTTP_INTERNAL, "Internal Server Error",
+              std::string("state: ") + e.what() + "\n");
+    return;
+  }
+  evbuffer* buf = evbuffer_new();
+  evbuffer_add(buf, text.data(), text.size());
+  send_body(req, HTTP_OK, "OK", "application/json", buf);
+  evbuffer_free(buf);
+}
+
+void HttpServer::Impl::serve_status(evhttp_request* req) {
+  std::string text;
+  try {
+    nlohmann::json body = status ? status() : nlohmann::json::object();
+    if (!body.is_object()) body = nlohmann::json{{"service", std::move(body)}};
+    body["http"] = to_json(stats());
+    // A device or file name in the status may not be UTF-8: replaced (U+FFFD), since dump()
+    // would throw, and no exception may reach libevent.
+    text = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  } catch (const std::exception& e) {
+    send_text(req, HTTP_INTERNAL, "Internal Server Error",
+              std::string("status: ") + e.what() + "\n");
+    return;
+  }
+  evbuffer* buf = evbuffer_new();
+  evbuffer_add(buf, text.data(), text.size());
+  send_body(req, HTTP_OK, "OK", "application/json", buf);
+  evbuffer_free(buf);
+}
+
+// The same numbers as /status, from the same callback, in Prometheus' text format.
+void HttpServer::Impl::serve_metrics(evhttp_request* req) {
+  std::string text;
+  try {
+    text = prometheus_text(status ? status() : nlohmann::json::object(), stats());
+  } catch (const std::exception& e) {
+    send_text(req, HTTP_INTERNAL, "Internal Server Error",
+              std::string("metrics: ") + e.what() + "\n");
+    return;
+  }
+  evbuffer* buf = evbuffer_new();
+  evbuffer_add(buf, text.data(), text.size());
+  send_body(req, HTTP_OK, "OK", kMetricsContentType, buf);
+  evbuffer_free(buf);
+}
+
+}  // namespace probeless
