@@ -414,3 +414,13 @@ put("http", "post", b"POST /status HTTP/1.1\r\nHost: localhost\r\nContent-Length
 put("http", "chunked", b"POST / HTTP/1.1\r\nTransfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n0\r\n\r\n")
 put("http", "not_found", req("GET /../../etc/passwd HTTP/1.1", "Host: localhost"))
 put("http", "garbage", b"\x00\xff\r\n\r\n")
+# What a ustreamer client sends (issue #22 item 2) and a Prometheus scrape (item 3).
+put("http", "state", req("GET /state HTTP/1.1", "Host: localhost"))
+put("http", "metrics", req("GET /metrics HTTP/1.1", "Host: localhost", "Accept: text/plain"))
+put("http", "head_snapshot", req("HEAD /snapshot HTTP/1.1", "Host: localhost"))
+put("http", "options_preflight", req("OPTIONS /stream HTTP/1.1", "Host: localhost",
+                                     "Origin: https://kvm.local",
+                                     "Access-Control-Request-Method: GET"))
+put("http", "stream_ustreamer", req("GET /stream?key=a%20b&extra_headers=1&advance_headers=yes"
+                                    "&dual_final_frames=1&extra_headers=&key HTTP/1.1",
+                                    "Host: localhost", "Connection: close"))
