@@ -110,6 +110,15 @@ Mses run(const NearScene& s, const std::string& method, bool near_occluders = fa
   return out;
 }
 
+// The hand without depth (a) and with depth (b), device and reference, x1e3.
+void print_pair(const char* label, bool mug, const Mses& a, const Mses& b) {
+  std::printf(
+      "%s mug=%d: without depth %.2f (reference %.2f), with depth %.2f (reference %.2f), "
+      "ratio %.2f\n",
+      label, int(mug), 1e3 * a.device, 1e3 * a.reference, 1e3 * b.device, 1e3 * b.reference,
+      a.device / b.device);
+}
+
 // Prints every method's MSE with the hand at 0.45 m (no depth) and 0.6 m (depth), and cvf
 // without hole cores, with and without the near-occluder cap (near_occluder_reference.hpp, the
 // variant measured before the hole cores and left off). Asserts what the cap achieves: the hand
@@ -134,11 +143,7 @@ TEST(NearOccluder, ColourCapHidesAHandWithoutDepth) {
     }
     const auto a0 = run(near, "cvf", false, 0), b0 = run(far, "cvf", false, 0);
     const auto a = run(near, "cvf", true, 0), b = run(far, "cvf", true, 0);
-    std::printf(
-        "cvf + near cap mug=%d: without depth %.2f (reference %.2f), with depth %.2f "
-        "(reference %.2f), ratio %.2f\n",
-        int(mug), 1e3 * a.device, 1e3 * a.reference, 1e3 * b.device, 1e3 * b.reference,
-        a.device / b.device);
+    print_pair("cvf + near cap", mug, a, b);
     EXPECT_LT(a.device, 0.3 * a0.device) << "mug " << mug;
     EXPECT_LT(a.reference, 0.3 * a0.reference) << "mug " << mug;
     EXPECT_LE(b.device, b0.device * 1.02) << "mug " << mug;
@@ -211,11 +216,7 @@ TEST(HoleCore, HandWithoutDepthWithinTwiceWithDepth) {
   for (const bool mug : {true, false}) {
     const auto near = near_scene(0.45, 11, mug), far = near_scene(0.60, 11, mug);
     const auto a = run(near, "cvf"), b = run(far, "cvf");
-    std::printf(
-        "cvf (hole cores) mug=%d: without depth %.2f (reference %.2f), with depth %.2f "
-        "(reference %.2f), ratio %.2f\n",
-        int(mug), 1e3 * a.device, 1e3 * a.reference, 1e3 * b.device, 1e3 * b.reference,
-        a.device / b.device);
+    print_pair("cvf (hole cores)", mug, a, b);
     EXPECT_LE(a.device, 2.0 * b.device) << "mug " << mug;
     EXPECT_LT(a.device, 3e-3) << "mug " << mug;
     EXPECT_NEAR(a.device, a.reference, 1e-4) << "mug " << mug;
