@@ -41,14 +41,16 @@ class OcclusionMethod {
   // 0 wherever there is no virtual object. `alpha` is resized to the inputs when it differs
   // (so a default-constructed DeviceImage works), then written on every pixel.
   virtual void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) = 0;
-  // The real depth the last process() judged by where the method changed the sensor's (CVF's
-  // hole cores: a wide hole is a surface nearer than the sensor's minimum range); nullptr = the
-  // input's. Stages after it that compare depths (the temporal stabiliser) take this one, so
-  // that they see the occluder the matte saw. Valid until the next process().
-  virtual const DeviceImage<std::uint16_t, 1>* judged_depth() const { return nullptr; }
+  // The real depth as the last process() understood it, where the method changed the sensor's
+  // (CVF's near occluders: a wide hole is a surface nearer than the sensor's minimum range,
+  // marked over its whole extent, hole_core_reference.hpp); nullptr = the input's. Stages
+  // after it that compare depths (the temporal stabiliser) take this one, so that they see the
+  // occluder the matte saw. Enqueues its work when first asked after a process(); valid until
+  // the next process().
+  virtual const DeviceImage<std::uint16_t, 1>* judged_depth() { return nullptr; }
 
   // `in` with the depth the last process() judged by.
-  OcclusionInputs as_judged(const OcclusionInputs& in) const {
+  OcclusionInputs as_judged(const OcclusionInputs& in) {
     OcclusionInputs out = in;
     if (const auto* d = judged_depth()) out.real_depth_mm = d;
     return out;

@@ -136,6 +136,11 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
   }
 }
 
+const DeviceImage<std::uint16_t, 1>* CvfMatte::judged_depth() {
+  if (cores_run_ && !judged_depth_) judged_depth_ = &hole_cores_->mark_near_occluders();
+  return judged_depth_;
+}
+
 void CvfMatte::stage_done(const char* stage) {
   if (!profiling_) return;
   ctx_.queue().finish();
@@ -154,10 +159,10 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   }
   OcclusionInputs inputs = in;
   judged_depth_ = nullptr;
-  if (hole_cores_ && in.width() > 0) {
-    judged_depth_ =
+  cores_run_ = hole_cores_ && in.width() > 0;
+  if (cores_run_) {
+    inputs.real_depth_mm =
         &hole_cores_->run(*in.real_depth_mm, hole_core_radius(params_.hole_core_px, in.width()));
-    inputs.real_depth_mm = judged_depth_;
     stage_done("hole cores");
   }
   if (layout_ == CvfLayout::Tiles) {

@@ -71,8 +71,9 @@ class CvfMatte final : public OcclusionMethod {
   CvfLayout layout() const { return layout_; }
   std::string name() const override { return local_ ? "cvf" : "cvf_thesis"; }
   void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) override;
-  // The depth with the hole cores filled, when hole_core_px > 0.
-  const DeviceImage<std::uint16_t, 1>* judged_depth() const override { return judged_depth_; }
+  // With hole_core_px > 0: the depth with every near occluder (cores and the holes around
+  // them) marked, HoleCoreFill::mark_near_occluders().
+  const DeviceImage<std::uint16_t, 1>* judged_depth() override;
 
   // The common part (categories, band, models, filters); local_params() has the rest.
   const CvfParams& params() const { return params_.cvf; }
@@ -126,7 +127,8 @@ class CvfMatte final : public OcclusionMethod {
   std::optional<CvfLocalHistogram> local_costs_;
   std::optional<NearOccluder> near_;        // cvf with near_occluders (issue #19 item 4)
   std::optional<HoleCoreFill> hole_cores_;  // cvf with hole_core_px > 0 (issue #19 item 4)
-  const DeviceImage<std::uint16_t, 1>* judged_depth_ = nullptr;
+  bool cores_run_ = false;                  // the last process() ran the hole cores
+  const DeviceImage<std::uint16_t, 1>* judged_depth_ = nullptr;  // marked, once asked
   ::cl::Kernel histogram_, cost_pack_, mask_pack_;
   std::optional<GuidedFilter> tile_wide_, tile_feather_;
   DeviceImageGray8 band_;

@@ -14,30 +14,45 @@ HoleCoreFill::HoleCoreFill(ComputeContext& ctx) : ctx_(ctx) {
   fill_ = ctx.kernel("hole_core", cl_source::hole_core, options, "hole_core_fill");
 }
 
-const DeviceImage<std::uint16_t, 1>& HoleCoreFill::run(const DeviceImage<std::uint16_t, 1>& depth,
-                                                       int radius) {
-  if (radius < 1) throw std::invalid_argument("hole core: radius must be >= 1");
+void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::uint16_t value,
+                               bool need_all, DeviceImage<std::uint16_t, 1>& out, int radius) {
   const int w = depth.width(), h = depth.height();
-  row_cores_.resize(ctx_.context(), w, h);
-  filled_.resize(ctx_.context(), w, h);
-  if (w * h == 0) return filled_;
+  row_hits_.resize(ctx_.context(), w, h);
+  out.resize(ctx_.context(), w, h);
+  if (w * h == 0) return;
   int a = 0;
   rows_.setArg(a++, depth.buffer());
-  rows_.setArg(a++, row_cores_.buffer());
+  rows_.setArg(a++, row_hits_.buffer());
   rows_.setArg(a++, w);
   rows_.setArg(a++, h);
   rows_.setArg(a++, radius);
+  rows_.setArg(a++, static_cast<cl_ushort>(value));
+  rows_.setArg(a++, need_all ? 1 : 0);
   ctx_.queue().enqueueNDRangeKernel(rows_, ::cl::NullRange, ::cl::NDRange(std::size_t(h)));
   a = 0;
   fill_.setArg(a++, depth.buffer());
-  fill_.setArg(a++, row_cores_.buffer());
-  fill_.setArg(a++, filled_.buffer());
+  fill_.setArg(a++, row_hits_.buffer());
+  fill_.setArg(a++, out.buffer());
   fill_.setArg(a++, w);
   fill_.setArg(a++, h);
   fill_.setArg(a++, radius);
+  fill_.setArg(a++, need_all ? 1 : 0);
   ctx_.queue().enqueueNDRangeKernel(fill_, ::cl::NullRange,
                                     ::cl::NDRange(static_cast<std::size_t>((w + 15) / 16)));
+}
+
+const DeviceImage<std::uint16_t, 1>& HoleCoreFill::run(const DeviceImage<std::uint16_t, 1>& depth,
+                                                       int radius) {
+  if (radius < 1) throw std::invalid_argument("hole core: radius must be >= 1");
+  radius_ = radius;
+  window_pass(depth, 0, true, filled_, radius);
   return filled_;
+}
+
+const DeviceImage<std::uint16_t, 1>& HoleCoreFill::mark_near_occluders() {
+  if (radius_ < 1) throw std::logic_error("hole core: mark_near_occluders() before run()");
+  window_pass(filled_, kNearHoleDepthMm, false, marked_, radius_);
+  return marked_;
 }
 
 }  // namespace probeless::occlusion

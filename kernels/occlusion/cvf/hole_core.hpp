@@ -13,12 +13,21 @@ class HoleCoreFill {
   // The filled copy of `depth` for a window radius >= 1 px (valid until the next call; else
   // std::invalid_argument); enqueues and does not wait.
   const DeviceImage<std::uint16_t, 1>& run(const DeviceImage<std::uint16_t, 1>& depth, int radius);
+  // The last run()'s filled depth with the holes around each core marked too
+  // (mark_near_occluders_reference()); valid until the next call.
+  const DeviceImage<std::uint16_t, 1>& mark_near_occluders();
 
  private:
+  // out = NEAR where the window of `depth` holds only (need_all) or some `value` and depth
+  // is unknown or NEAR there, else depth.
+  void window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::uint16_t value, bool need_all,
+                   DeviceImage<std::uint16_t, 1>& out, int radius);
+
   ComputeContext& ctx_;
   ::cl::Kernel rows_, fill_;
-  DeviceImage<std::uint8_t, 1> row_cores_;
-  DeviceImage<std::uint16_t, 1> filled_;
+  int radius_ = 0;
+  DeviceImage<std::uint8_t, 1> row_hits_;
+  DeviceImage<std::uint16_t, 1> filled_, marked_;
 };
 
 }  // namespace probeless::occlusion

@@ -33,4 +33,21 @@ DepthImage fill_hole_cores_reference(const DepthImage& depth, int radius) {
   return out;
 }
 
+DepthImage mark_near_occluders_reference(const DepthImage& depth, int radius) {
+  DepthImage out = fill_hole_cores_reference(depth, radius);
+  if (radius <= 0) return out;
+  const DepthImage filled = out;
+  const int w = depth.width(), h = depth.height();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (depth.at(x, y) != 0) continue;
+      bool any = false;
+      for (int j = std::max(0, y - radius); j <= std::min(h - 1, y + radius) && !any; ++j)
+        for (int k = std::max(0, x - radius); k <= std::min(w - 1, x + radius) && !any; ++k)
+          any = filled.at(k, j) == kNearHoleDepthMm;
+      if (any) out.at(x, y) = kNearHoleDepthMm;
+    }
+  return out;
+}
+
 }  // namespace probeless::occlusion

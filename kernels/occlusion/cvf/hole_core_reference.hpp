@@ -35,4 +35,10 @@ int hole_core_radius(int radius_at_640, int width);
 // kNearHoleDepthMm; r <= 0 returns `depth` unchanged.
 DepthImage fill_hole_cores_reference(const DepthImage& depth, int radius);
 
+// fill_hole_cores_reference(), then every hole with a core in its clipped (2r+1)^2 window
+// marked kNearHoleDepthMm as well: the whole near occluder (core and rim), for the stages after
+// the matte that must not mistake its rim for a flicker of the sensor (the temporal
+// stabiliser). CVF itself judges the rim by colour, so it takes the cores only.
+DepthImage mark_near_occluders_reference(const DepthImage& depth, int radius);
+
 }  // namespace probeless::occlusion

@@ -60,8 +60,13 @@ inline vf stabilise16(int x0, int y, int width, int height, vf a, vf v, vi on, v
   const vf qx = m->r[0] * px + m->r[1] * py + m->r[2] * z + m->t[0];
   const vf qy = m->r[3] * px + m->r[4] * py + m->r[5] * z + m->t[1];
   const vf qz = m->r[6] * px + m->r[7] * py + m->r[8] * z + m->t[2];
-  vi ok = on & (qz > 0.0f);
-  vf u = m->fx * qx / qz + m->cx, w = m->fy * qy / qz + m->cy;
+  // A near occluder's pixels (NEAR_MM: no depth, hole_core_reference.hpp) move with the
+  // occluder, not with the scene: compared with the same pixel of the previous frame, which
+  // must have been the near occluder too.
+  const vi marked = has_d & (dz == (vf)(NEAR_MM));
+  vi ok = on & ((qz > 0.0f) | marked);
+  vf u = select(m->fx * qx / qz + m->cx, xf, marked);
+  vf w = select(m->fy * qy / qz + m->cy, (vf)((float)y), marked);
   ok &= (u >= 0.0f) & (w >= 0.0f) & (u <= (float)(width - 1)) & (w <= (float)(height - 1));
   if (!any(ok)) return a;
   u = select((vf)(0.0f), u, ok);  // lanes that take nothing read pixel 0
@@ -87,7 +92,9 @@ inline vf stabilise16(int x0, int y, int width, int height, vf a, vf v, vi on, v
   const vi right = ju != x0s, below = jw != y0s;
   ok &= select(select(on00, on10, right), select(on01, on11, right), below);
   const vf dp = convert_float16((ushort16)GATHER16(prev_depth, jw * width + ju));
-  ok &= ~(has_d & (dp > 0.0f) & (fabs(qz - dp) > m->depth_tol_mm + m->depth_tol_rel * qz));
+  ok &= ~(has_d & ~marked & (dp > 0.0f) &
+          (fabs(qz - dp) > m->depth_tol_mm + m->depth_tol_rel * qz));
+  ok &= ~marked | (dp == (vf)(NEAR_MM));
   ok &= (sw > 1e-6f);
   const vf dr = (sr / sw - r) / 255.0f, dg = (sg / sw - g) / 255.0f, db = (sb / sw - b) / 255.0f;
   // Depth measured in one frame only: it cannot confirm the surface, so colour must, closer.

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "kernels/occlusion/common/vector16_cl.hpp"
+#include "kernels/occlusion/cvf/hole_core_reference.hpp"
 #include "kernels/occlusion/temporal/matte_stabiliser_cl.hpp"
 
 namespace probeless::occlusion {
@@ -33,10 +34,10 @@ const std::string& stabiliser_source() {
 MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
     : ctx_(ctx),
       params_(params),
-      kernel_(ctx.kernel(
-          "matte_stabiliser", stabiliser_source(),
-          fmt::format("-DUNCONFIRMED_RANGE={:a}f", double(params.unconfirmed_colour_range)),
-          "stabilise_matte")) {
+      kernel_(ctx.kernel("matte_stabiliser", stabiliser_source(),
+                         fmt::format("-DUNCONFIRMED_RANGE={:a}f -DNEAR_MM={}",
+                                     double(params.unconfirmed_colour_range), kNearHoleDepthMm),
+                         "stabilise_matte")) {
   if (!(params.history_weight >= 0.f && params.history_weight < 1.f))
     throw std::invalid_argument("matte stabiliser: history_weight must lie in [0, 1)");
   if (!(params.colour_range > 0.f && params.unconfirmed_colour_range > 0.f))

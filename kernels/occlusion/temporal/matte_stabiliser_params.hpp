@@ -30,13 +30,12 @@ struct StabiliserParams {
   // 8-bit composite by less than half a level (docs/occlusion.md "Temporal stabilisation").
   float snap = 1.f / 512.f;
   // colour_range where only one of the two frames measured depth there: depth cannot say
-  // whether the surface changed (a hand without depth moved off the table, or a sensor hole
-  // flickered on a still surface), so colour must, closer. With the hole cores the sim's near
-  // hand left a trail of its edges across the table at 0.1 (MSE +19 % against the matte
-  // alone); 0.025 (6 levels) leaves a faint one (+6.6 %) and keeps most of the noise reduction
-  // at flickering holes (arm-only sequence: noise x0.63 against x0.44 at 0.1, MSE -12.7 %
-  // against -6.9 %); refusing history there outright: x0.74 (docs/occlusion.md "Temporal
-  // stabilisation").
+  // whether the surface changed (a sensor hole flickering on a still surface, or the edge of
+  // something without depth), so colour must, closer. Near occluders are marked in the depth
+  // the matte hands on (OcclusionMethod::judged_depth(): cores and rims at kNearHoleDepthMm)
+  // and compared pixel for pixel, so this range is for the other holes. On the sim, cvf ->
+  // cvf+stab with 0.025 against 0.1: near hand MSE +6.9 % / +10.3 %, noise x0.72 / x0.73;
+  // arm only -11.0 % / +0.3 %, x0.60 / x0.61 (docs/occlusion.md "Temporal stabilisation").
   float unconfirmed_colour_range = 0.025f;
 };
 

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "kernels/occlusion/cvf/hole_core_reference.hpp"
+
 namespace probeless::occlusion {
 
 ImageF stabilise_matte_reference(const ImageF& alpha, const StabiliserFrame& cur,
@@ -39,18 +41,22 @@ ImageF stabilise_matte_reference(const ImageF& alpha, const StabiliserFrame& cur
       const float qx = r(0, 0) * px + r(0, 1) * py + r(0, 2) * z + t.x();
       const float qy = r(1, 0) * px + r(1, 1) * py + r(1, 2) * z + t.y();
       const float qz = r(2, 0) * px + r(2, 1) * py + r(2, 2) * z + t.z();
-      if (!(qz > 0.0f)) continue;
-      const float u = fx * qx / qz + cx, w = fy * qy / qz + cy;
+      // A near occluder's pixels move with it: the same pixel, which must have been it too.
+      const bool marked = d == kNearHoleDepthMm;
+      if (!(qz > 0.0f) && !marked) continue;
+      const float u = marked ? static_cast<float>(x) : fx * qx / qz + cx;
+      const float w = marked ? static_cast<float>(y) : fy * qy / qz + cy;
       if (!(u >= 0.0f && w >= 0.0f && u <= static_cast<float>(width - 1) &&
             w <= static_cast<float>(height - 1)))
         continue;
       const int ju = static_cast<int>(u + 0.5f), jw = static_cast<int>(w + 0.5f);
       if (!(prev.virtual_depth_mm->at(ju, jw) > 0.0f)) continue;
       const std::uint16_t dp = prev.real_depth_mm->at(ju, jw);
-      if (d > 0 && dp > 0 &&
+      if (d > 0 && !marked && dp > 0 &&
           std::fabs(qz - static_cast<float>(dp)) >
               p.depth_tolerance_mm + p.depth_tolerance_rel * qz)
         continue;
+      if (marked && dp != kNearHoleDepthMm) continue;
       const int x0 = std::min(static_cast<int>(u), std::max(width - 2, 0));
       const int y0 = std::min(static_cast<int>(w), std::max(height - 2, 0));
       const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);

@@ -177,6 +177,23 @@ TEST(HoleCore, ReferenceFillsOnlyTheCoresOfWideHoles) {
   EXPECT_TRUE(std::equal(a.begin(), a.end(), b.begin(), b.end()));
 }
 
+// The whole near occluder is marked for the stages after the matte: the 12x12 hole of the
+// reference test above entirely (its core is within r of every pixel of it), the 6 px sliver
+// not at all (no core), depth never.
+TEST(HoleCore, ReferenceMarksTheRimAroundACore) {
+  DepthImage d(40, 30, std::uint16_t{2000});
+  for (int y = 4; y < 16; ++y)
+    for (int x = 4; x < 16; ++x) d.at(x, y) = 0;
+  for (int y = 2; y < 28; ++y)
+    for (int x = 24; x < 30; ++x) d.at(x, y) = 0;
+  const auto m = mark_near_occluders_reference(d, 3);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      const bool square = x >= 4 && x < 16 && y >= 4 && y < 16;
+      EXPECT_EQ(m.at(x, y), square ? kNearHoleDepthMm : d.at(x, y)) << x << "," << y;
+    }
+}
+
 TEST(HoleCore, DeviceEqualsReference) {
   auto& ctx = cl_context();
   for (const int r : {1, 4, 9}) {
@@ -187,6 +204,13 @@ TEST(HoleCore, DeviceEqualsReference) {
     const auto want = fill_hole_cores_reference(s.depth, r);
     const auto g = got.elements(), e = want.elements();
     ASSERT_TRUE(std::equal(g.begin(), g.end(), e.begin(), e.end())) << "r " << r;
+    const auto got_marked = fill.mark_near_occluders().download(ctx.queue());
+    const auto want_marked = mark_near_occluders_reference(s.depth, r);
+    const auto gm = got_marked.elements(), em = want_marked.elements();
+    ASSERT_TRUE(std::equal(gm.begin(), gm.end(), em.begin(), em.end())) << "marked, r " << r;
+    EXPECT_GT(std::count(em.begin(), em.end(), kNearHoleDepthMm),
+              std::count(e.begin(), e.end(), kNearHoleDepthMm))
+        << "the rim is marked besides the core, r " << r;
   }
   // A width that is no multiple of the column pass's 16 lanes.
   const auto s = near_scene(0.45, 6);
@@ -241,7 +265,7 @@ TEST(HoleCore, JudgedDepthIsTheFilledOne) {
   ASSERT_EQ(judged, shipped->judged_depth());
   const auto got = judged->download(ctx.queue());
   const auto want =
-      fill_hole_cores_reference(s.depth, hole_core_radius(CvfLocalParams{}.hole_core_px, 320));
+      mark_near_occluders_reference(s.depth, hole_core_radius(CvfLocalParams{}.hole_core_px, 320));
   const auto g = got.elements(), e = want.elements();
   EXPECT_TRUE(std::equal(g.begin(), g.end(), e.begin(), e.end()));
   EXPECT_GT(std::count(e.begin(), e.end(), kNearHoleDepthMm), 2000) << "the hand has a core";
