@@ -4,6 +4,7 @@
 #include <event2/buffer.h>
 #include <event2/http.h>
 
+#include <functional>
 #include <string>
 
 #include "app/outputs/http_metrics.hpp"
@@ -24,7 +25,6 @@ void HttpServer::Impl::serve_options(evhttp_request* req) {
 // ustreamer's snapshot headers: the capture time and the source's state and size.
 void HttpServer::Impl::add_frame_headers(evhttp_request* req) {
   evkeyvalq* out = evhttp_request_get_output_headers(req);
-  const bool online = current && !current->value.no_signal;
   if (current) {
     evhttp_add_header(out, "X-Timestamp", seconds_text(current_wall_ns).c_str());
     evhttp_add_header(out, "X-Timestamp-Monotonic",
@@ -32,8 +32,8 @@ void HttpServer::Impl::add_frame_headers(evhttp_request* req) {
   } else {
     evhttp_add_header(out, "X-Timestamp", seconds_text(wall_clock_now_ns()).c_str());
   }
-  evhttp_add_header(out, "X-UStreamer-Online", online ? "true" : "false");
-  const JpegSize size = current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
+  evhttp_add_header(out, "X-UStreamer-Online", source_online() ? "true" : "false");
+  const JpegSize size = shown_size();
   evhttp_add_header(out, "X-UStreamer-Width", std::to_string(size.width).c_str());
   evhttp_add_header(out, "X-UStreamer-Height", std::to_string(size.height).c_str());
 }
@@ -58,17 +58,32 @@ void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
   evbuffer_free(body);
 }
 
-void HttpServer::Impl::serve_state(evhttp_request* req) {
-  on_frame();
-  UstreamerState state;
-  state.quality = config.jpeg_quality;
-  state.online = current && !current->value.no_signal;
-  state.resolution = current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
-  const TimestampNs now = monotonic_now_ns();
-  state.queued_fps = published_rate.rate_hz(now);
-  state.captured_fps = state.queued_fps;
+void HttpServer::Impl::send_built(evhttp_request* req, const char* what, const char* content_type,
+                                  const std::function<std::string()>& make) {
   std::string text;
   try {
+    text = make();
+  } catch (const std::exception& e) {
+    send_text(req, HTTP_INTERNAL, "Internal Server Error",
+              std::string(what) + ": " + e.what() + "\n");
+    return;
+  }
+  evbuffer* buf = evbuffer_new();
+  evbuffer_add(buf, text.data(), text.size());
+  send_body(req, HTTP_OK, "OK", content_type, buf);
+  evbuffer_free(buf);
+}
+
+void HttpServer::Impl::serve_state(evhttp_request* req) {
+  on_frame();
+  send_built(req, "state", "application/json", [&] {
+    UstreamerState state;
+    state.quality = config.jpeg_quality;
+    state.online = source_online();
+    state.resolution = shown_size();
+    const TimestampNs now = monotonic_now_ns();
+    state.queued_fps = published_rate.rate_hz(now);
+    state.captured_fps = state.queued_fps;
     // The pipeline's own rate when the service reports one: frames captured and processed,
     // not only those that reached this server.
     if (status) {
@@ -80,52 +95,26 @@ void HttpServer::Impl::serve_state(evhttp_request* req) {
       if (c->request == nullptr) continue;
       state.clients.push_back({c->id, c->sent_rate.rate_hz(now), c->options});
     }
-    text = to_json(state).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  } catch (const std::exception& e) {
-    send_text(req, HTTP_INTERNAL, "Internal Server Error",
-              std::string("state: ") + e.what() + "\n");
-    return;
-  }
-  evbuffer* buf = evbuffer_new();
-  evbuffer_add(buf, text.data(), text.size());
-  send_body(req, HTTP_OK, "OK", "application/json", buf);
-  evbuffer_free(buf);
+    return to_json(state).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  });
 }
 
 void HttpServer::Impl::serve_status(evhttp_request* req) {
-  std::string text;
-  try {
+  send_built(req, "status", "application/json", [&] {
     nlohmann::json body = status ? status() : nlohmann::json::object();
     if (!body.is_object()) body = nlohmann::json{{"service", std::move(body)}};
     body["http"] = to_json(stats());
     // A device or file name in the status may not be UTF-8: replaced (U+FFFD), since dump()
-    // would throw, and no exception may reach libevent.
-    text = body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  } catch (const std::exception& e) {
-    send_text(req, HTTP_INTERNAL, "Internal Server Error",
-              std::string("status: ") + e.what() + "\n");
-    return;
-  }
-  evbuffer* buf = evbuffer_new();
-  evbuffer_add(buf, text.data(), text.size());
-  send_body(req, HTTP_OK, "OK", "application/json", buf);
-  evbuffer_free(buf);
+    // would throw.
+    return body.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  });
 }
 
 // The same numbers as /status, from the same callback, in Prometheus' text format.
 void HttpServer::Impl::serve_metrics(evhttp_request* req) {
-  std::string text;
-  try {
-    text = prometheus_text(status ? status() : nlohmann::json::object(), stats());
-  } catch (const std::exception& e) {
-    send_text(req, HTTP_INTERNAL, "Internal Server Error",
-              std::string("metrics: ") + e.what() + "\n");
-    return;
-  }
-  evbuffer* buf = evbuffer_new();
-  evbuffer_add(buf, text.data(), text.size());
-  send_body(req, HTTP_OK, "OK", kMetricsContentType, buf);
-  evbuffer_free(buf);
+  send_built(req, "metrics", kMetricsContentType, [&] {
+    return prometheus_text(status ? status() : nlohmann::json::object(), stats());
+  });
 }
 
 }  // namespace probeless

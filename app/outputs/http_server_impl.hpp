@@ -8,6 +8,7 @@
 #include <event2/listener.h>
 
 #include <deque>
+#include <functional>
 #include <list>
 #include <memory>
 #include <mutex>
@@ -114,6 +115,16 @@ struct HttpServer::Impl {
   void serve_metrics(evhttp_request* req);
   void serve_options(evhttp_request* req);
   void add_frame_headers(evhttp_request* req);
+  // What ustreamer reports of the source: live (a frame that is not a NO SIGNAL repeat) and
+  // the size shown (the placeholder's before the first frame).
+  bool source_online() const { return current && !current->value.no_signal; }
+  JpegSize shown_size() const {
+    return current ? current_size : JpegSize{kPlaceholderWidth, kPlaceholderHeight};
+  }
+  // 200 with the text `make` builds, or 500 naming `what` if building it throws (no exception
+  // may reach libevent).
+  void send_built(evhttp_request* req, const char* what, const char* content_type,
+                  const std::function<std::string()>& make);
   void add_common_headers(evkeyvalq* headers, const char* content_type);
   void send_body(evhttp_request* req, int code, const char* reason, const char* content_type,
                  evbuffer* body);

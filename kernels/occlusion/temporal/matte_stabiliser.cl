@@ -92,8 +92,8 @@ inline vf stabilise16(int x0, int y, int width, int height, vf a, vf v, vi on, v
   const vi right = ju != x0s, below = jw != y0s;
   ok &= select(select(on00, on10, right), select(on01, on11, right), below);
   const vf dp = convert_float16((ushort16)GATHER16(prev_depth, jw * width + ju));
-  ok &= ~(has_d & ~marked & (dp > 0.0f) &
-          (fabs(qz - dp) > m->depth_tol_mm + m->depth_tol_rel * qz));
+  ok &=
+      ~(has_d & ~marked & (dp > 0.0f) & (fabs(qz - dp) > m->depth_tol_mm + m->depth_tol_rel * qz));
   ok &= ~marked | (dp == (vf)(NEAR_MM));
   ok &= (sw > 1e-6f);
   const vf dr = (sr / sw - r) / 255.0f, dg = (sg / sw - g) / 255.0f, db = (sb / sw - b) / 255.0f;
