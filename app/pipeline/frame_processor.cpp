@@ -5,7 +5,6 @@
 
 #include "app/outputs/banner.hpp"
 #include "app/pipeline/scene_objects.hpp"
-#include "kernels/occlusion/method_registry.hpp"
 
 namespace probeless {
 
@@ -29,6 +28,12 @@ decltype(auto) timed(StageStats& stats, Stage& stage, Args&&... args) {
 
 }  // namespace
 
+occlusion::MethodParams occlusion_params(const ServiceConfig& config) {
+  occlusion::MethodParams params;
+  if (!config.occlusion_near_occluders) params.cvf.hole_core_px = 0;
+  return params;
+}
+
 FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration,
                                bool keep_matte, LightSource light,
                                std::shared_ptr<PoseHistory> poses)
@@ -38,7 +43,8 @@ FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration
       render_(make_scene_objects(config.objects, config.ground, default_prt_cache_dir()),
               calibration.rgb.intrinsics(), std::move(light)),
       upload_(*ctx_, calibration.rgb),
-      occlusion_(*ctx_, occlusion::make_method(*ctx_, config.occlusion_method),
+      occlusion_(*ctx_,
+                 occlusion::make_method(*ctx_, config.occlusion_method, occlusion_params(config)),
                  config.occlusion_stabilise, calibration.rgb.intrinsics()),
       composite_(*ctx_),
       download_(*ctx_, keep_matte),

@@ -15,8 +15,12 @@
 #include "app/pipeline/service_config.hpp"
 #include "app/world/rig_localiser.hpp"
 #include "base/stage_stats.hpp"
+#include "kernels/occlusion/method_registry.hpp"
 
 namespace probeless {
+
+// The occlusion method's parameters from [occlusion] (its method's defaults otherwise).
+occlusion::MethodParams occlusion_params(const ServiceConfig& config);
 
 class FrameProcessor {
  public:

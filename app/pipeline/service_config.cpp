@@ -127,9 +127,10 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     for (const auto& item : *arr) c.objects.push_back(parse_object(r, *item.as_table()));
   }
   if (auto* t = r.optional_table(root, "occlusion")) {
-    r.only(*t, "[occlusion]", {"method", "stabilise"});
+    r.only(*t, "[occlusion]", {"method", "stabilise", "near_occluders"});
     r.get(*t, "method", c.occlusion_method);
     r.get(*t, "stabilise", c.occlusion_stabilise);
+    r.get(*t, "near_occluders", c.occlusion_near_occluders);
   }
   if (auto* t = r.optional_table(root, "tracking")) {
     r.only(*t, "[tracking]",

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "app/pipeline/frame_processor.hpp"
 #include "app/pipeline/light_capture.hpp"
 #include "app/pipeline/scene_objects.hpp"
 #include "core/error.hpp"
@@ -107,6 +108,20 @@ room_max = [2.5, 3.0, 2.4]
 }
 
 // A typo must not fall back silently to a default: the error names the key and its line.
+// The admin's switch for the hole cores (docs/occlusion.md "Occluders the sensor cannot see"):
+// on by default, off gives the shipped CVF without them, and it must be a boolean.
+TEST(ServiceConfig, NearOccludersSwitchesTheHoleCores) {
+  const ServiceConfig on = parse_service_config("");
+  EXPECT_TRUE(on.occlusion_near_occluders);
+  EXPECT_EQ(occlusion_params(on).cvf.hole_core_px, occlusion::CvfLocalParams{}.hole_core_px);
+  EXPECT_GT(occlusion_params(on).cvf.hole_core_px, 0);
+  const ServiceConfig off = parse_service_config("[occlusion]\nnear_occluders = false\n");
+  EXPECT_FALSE(off.occlusion_near_occluders);
+  EXPECT_EQ(occlusion_params(off).cvf.hole_core_px, 0);
+  EXPECT_EQ(off.occlusion_method, "cvf");
+  EXPECT_THROW(parse_service_config("[occlusion]\nnear_occluders = \"no\"\n"), ParseError);
+}
+
 TEST(ServiceConfig, UnknownKeyIsAnErrorWithItsLine) {
   try {
     parse_service_config("[http]\nport = 1\nprot = 2\n", "svc.toml");
