@@ -38,6 +38,25 @@ render::Mesh world_mesh(const std::vector<render::VirtualObject>& objects) {
   return all;
 }
 
+// What each triangle of world_mesh(objects) does to a shadow ray: mirror and metal objects
+// reflect it on with their colour's mean as reflectance (thesis ch. 6: a mirror's shadow is
+// not too dark; a rough metal's lobe is narrow enough that the mirror direction stands in for
+// it), every other material blocks it (0). Empty when nothing reflects: the plain shadow bake.
+std::vector<float> shadow_reflectance(const std::vector<render::VirtualObject>& objects) {
+  std::vector<float> out;
+  bool any = false;
+  for (const auto& o : objects) {
+    const auto s = o.material.shading;
+    const bool reflects = s == Shading::Mirror || s == Shading::RoughMetal;
+    const auto& c = o.material.base_colour;
+    const float r = reflects ? std::clamp((c[0] + c[1] + c[2]) / 3.f, 0.f, 1.f) : 0.f;
+    any = any || r > 0.f;
+    out.insert(out.end(), o.mesh->triangle_count(), r);
+  }
+  if (!any) out.clear();
+  return out;
+}
+
 }  // namespace
 
 Eigen::Vector3d default_object_anchor() {
@@ -101,6 +120,7 @@ std::vector<render::VirtualObject> make_scene_objects(const std::vector<ObjectCo
     g.plane.point = Eigen::Vector3f(0, 0, static_cast<float>(ground.height_m.value_or(lowest)));
     g.side = static_cast<float>(ground.size_m);
     scene.ground = g;
+    scene.triangle_reflectance = shadow_reflectance(out);
     const prt::Bake b = prt::bake_prt(all, scene, bake);
     auto grid = std::make_shared<render::Mesh>(b.ground);
     grid->name = "ground";

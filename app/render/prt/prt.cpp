@@ -76,6 +76,16 @@ void check(const render::Mesh& object, const Scene& scene, const BakeOptions& op
   if (!(scene.mirror_reflectance >= 0.f && scene.mirror_reflectance <= 1.f))
     throw std::invalid_argument(
         fmt::format("prt: mirror_reflectance must be in 0..1 (got {})", scene.mirror_reflectance));
+  if (!scene.triangle_reflectance.empty()) {
+    if (scene.triangle_reflectance.size() != object.triangle_count())
+      throw std::invalid_argument(
+          fmt::format("prt: triangle_reflectance has {} values for {} triangles",
+                      scene.triangle_reflectance.size(), object.triangle_count()));
+    for (float r : scene.triangle_reflectance)
+      if (!(r >= 0.f && r <= 1.f))
+        throw std::invalid_argument(
+            fmt::format("prt: triangle_reflectance must be in 0..1 (got {})", r));
+  }
   if (scene.ground) check_ground(*scene.ground);
 }
 
@@ -172,6 +182,8 @@ Bake bake_prt(const render::Mesh& object, const Scene& scene, const BakeOptions&
   occluders.object_mesh = &object;
   occluders.mirror = scene.mirror;
   occluders.reflectance = scene.mirror_reflectance;
+  if (!scene.triangle_reflectance.empty())
+    occluders.triangle_reflectance = &scene.triangle_reflectance;
   occluders.max_bounces = options.max_mirror_bounces;
   occluders.epsilon = kRayOffset * bounding_sphere(object).radius;
   if (scene.ground) {

@@ -76,6 +76,11 @@ struct Scene {
   // instead of blocking them.
   bool mirror = false;
   float mirror_reflectance = 1.f;  // 0..1
+  // Per object triangle (indices / 3), when not empty: its reflectance 0..1 in place of the two
+  // above, 0 blocking the ray (a diffuse surface). The service bakes all objects' shadow on the
+  // ground in one mesh, where a chrome sphere beside a diffuse pawn reflects and the pawn does
+  // not (app/pipeline/scene_objects.cpp).
+  std::vector<float> triangle_reflectance{};
   // Without a ground only the object shadows itself and no grid is baked.
   std::optional<Ground> ground{};
 };

@@ -39,6 +39,7 @@ std::string bake_cache_key(const render::Mesh& object, const Scene& scene,
   std::uint64_t h = hash_bytes(object.positions, 0xcbf29ce484222325ULL);
   h = hash_bytes(object.normals, h);
   h = hash_bytes(object.indices, h);
+  h = hash_bytes(scene.triangle_reflectance, h);
   std::string ground = "none";
   if (scene.ground) {
     const Ground& g = *scene.ground;

@@ -28,7 +28,7 @@ Occluders::Result Occluders::trace(const Eigen::Vector3f& start,
     const bool hits_plane = plane_t < std::numeric_limits<float>::infinity();
     const Result escaped{weight, bounce > 0, direction};
     if (!object) return hits_plane ? Result{} : escaped;
-    if (!mirror) {
+    if (!mirror && !triangle_reflectance) {
       // Shadow rays only need to know whether anything is in the way, not what.
       if (hits_plane || object->occluded({origin, direction})) return {};
       return escaped;
@@ -36,6 +36,8 @@ Occluders::Result Occluders::trace(const Eigen::Vector3f& start,
     const auto hit = object->closest({origin, direction, plane_t});
     if (!hit) return hits_plane ? Result{} : escaped;
     if (bounce == max_bounces) return {};
+    const float r = triangle_reflectance ? (*triangle_reflectance)[hit->triangle] : reflectance;
+    if (!(r > 0.f)) return {};  // a diffuse triangle (or a black mirror) blocks
 
     // Thesis ch. 6: a mirror-like object reflects the shadow ray on into the scene. Reflect
     // about the interpolated normal (smooth, like the rendered mirror) and leave from the side
@@ -54,7 +56,7 @@ Occluders::Result Occluders::trace(const Eigen::Vector3f& start,
     direction -= 2.f * direction.dot(shading) * shading;
     if (!(direction.dot(geometric) > 0.f)) return {};  // smoothing sent it into the surface
     origin += epsilon * geometric;
-    weight *= reflectance;
+    weight *= r;
   }
 }
 

@@ -21,6 +21,8 @@ struct Occluders {
   const render::Mesh* object_mesh = nullptr;  // its indices and normals, for reflections
   bool mirror = false;
   float reflectance = 1.f;
+  // Per triangle, in place of the two above (Scene::triangle_reflectance); 0 blocks.
+  const std::vector<float>* triangle_reflectance = nullptr;
   int max_bounces = 4;
   // Unit normal and offset of the plane n . x + d = 0; above is n . x + d > 0.
   std::optional<Eigen::Vector4f> plane;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 
 namespace probeless {
 namespace {
@@ -38,6 +39,36 @@ TEST(SceneObjects, DefaultSceneIsAMirrorSphereAPrtPawnAndTheGroundReceiver) {
   const auto placeholders = placeholder_objects(objects);
   ASSERT_EQ(placeholders.size(), 2u);
   for (const auto& o : placeholders) EXPECT_EQ(o.material.shading, S::Lambert);
+}
+
+// Issue #21 item 5: the chrome sphere reflects the ground's shadow rays on into the room, so
+// its shadow is lighter than the same sphere's as a diffuse object; the pawn beside it still
+// blocks (its shadow is not lightened with the sphere's).
+TEST(SceneObjects, TheMirrorSphereCastsAMirrorsShadow) {
+  ServiceConfig config;
+  auto ground_shadow = [&](const std::vector<ObjectConfig>& objects) {
+    const auto scene = make_scene_objects(objects, config.ground, {});
+    const auto& t = scene.back().mesh->prt_transfer;
+    std::vector<float> shadow;
+    for (std::size_t v = 0; v < t.size() / 25; ++v) shadow.push_back(-t[v * 25]);
+    return shadow;
+  };
+  const auto mirror = ground_shadow(config.objects);
+  auto diffuse_objects = config.objects;
+  ASSERT_EQ(diffuse_objects[0].material, "mirror");
+  diffuse_objects[0].material = "lambert";
+  const auto diffuse = ground_shadow(diffuse_objects);
+  ASSERT_EQ(mirror.size(), diffuse.size());
+  double sum_mirror = 0, sum_diffuse = 0;
+  for (std::size_t v = 0; v < mirror.size(); ++v) {
+    sum_mirror += mirror[v];
+    sum_diffuse += diffuse[v];
+    EXPECT_LE(mirror[v], diffuse[v] + 1e-6f) << "vertex " << v;  // never darker
+  }
+  std::printf("summed ground shadow: mirror sphere %.3f, diffuse sphere %.3f\n", sum_mirror,
+              sum_diffuse);
+  EXPECT_LT(sum_mirror, 0.85 * sum_diffuse);
+  EXPECT_GT(sum_mirror, 0.2 * sum_diffuse);  // the pawn's shadow and the rays sent down stay
 }
 
 TEST(SceneObjects, LambertOnlyOrGroundOffAddsNoReceiver) {

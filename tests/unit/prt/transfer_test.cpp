@@ -176,6 +176,40 @@ TEST(PrtMirror, MirrorSphereCastsALighterShadow) {
   EXPECT_EQ(bake_prt(sphere, mirror).ground_with_object, a.ground_with_object);
 }
 
+// Per-triangle reflectance (the service's scene of several objects): every triangle at the
+// scene's reflectance is the mirror bake to the bit, every triangle at 0 the diffuse one, and a
+// mesh half mirror lies between them.
+TEST(PrtMirror, PerTriangleReflectanceMatchesTheWholeObjectBakes) {
+  const render::Mesh sphere = testing::sphere_on_floor(24, 12);
+  BakeOptions o;
+  o.samples = 256;
+  const Scene diffuse{.ground = testing::floor_ground()};
+  Scene mirror = diffuse;
+  mirror.mirror = true;
+  mirror.mirror_reflectance = 0.9f;
+  const Bake a = bake_prt(sphere, diffuse, o), b = bake_prt(sphere, mirror, o);
+  Scene per = diffuse;
+  per.triangle_reflectance.assign(sphere.triangle_count(), 0.9f);
+  EXPECT_EQ(bake_prt(sphere, per, o).ground_with_object, b.ground_with_object);
+  per.triangle_reflectance.assign(sphere.triangle_count(), 0.f);
+  EXPECT_EQ(bake_prt(sphere, per, o).ground_with_object, a.ground_with_object);
+  for (std::size_t t = 0; t < sphere.triangle_count(); t += 2) per.triangle_reflectance[t] = 0.9f;
+  const Bake half = bake_prt(sphere, per, o);
+  double sa = 0, sb = 0, sh = 0;
+  for (std::size_t v = 0; v < a.ground.vertex_count(); ++v) {
+    sa += a.ground_with_object.at(v)[0];
+    sb += b.ground_with_object.at(v)[0];
+    sh += half.ground_with_object.at(v)[0];
+  }
+  EXPECT_GT(sh, sa + 1e-3);
+  EXPECT_LT(sh, sb - 1e-3);
+  // A wrong count or a value outside 0..1 is an error that names it.
+  per.triangle_reflectance.pop_back();
+  EXPECT_THROW(bake_prt(sphere, per, o), std::invalid_argument);
+  per.triangle_reflectance.assign(sphere.triangle_count(), 1.5f);
+  EXPECT_THROW(bake_prt(sphere, per, o), std::invalid_argument);
+}
+
 TEST(PrtGround, GridLiesOnThePlaneUnderTheObject) {
   render::Mesh pawn = render::make_pawn(0.2f, 16);
   for (auto& p : pawn.positions) p += Eigen::Vector3f(1, 2, 0);
