@@ -1,7 +1,7 @@
 #pragma once
 // The device stage of hole_core_reference.hpp: the real depth with the cores of wide holes set
-// nearer than anything, before CVF's depth test. Two small kernels (a sliding count along the rows,
-// then the columns).
+// nearer than anything, before CVF's depth test. Two small kernels (a dilation of bit sets along
+// the rows, then a sliding count down the columns).
 #include "kernels/runtime/compute_context.hpp"
 #include "kernels/runtime/device_image.hpp"
 

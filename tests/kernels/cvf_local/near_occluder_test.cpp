@@ -9,7 +9,10 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <ranges>
+#include <tuple>
 #include <utility>
+#include <vector>
 
 #include "core/depth_noise.hpp"
 #include "kernels/occlusion/cvf/cvf_local_reference.hpp"
@@ -235,6 +238,44 @@ TEST(HoleCore, DeviceEqualsReference) {
 // The bar with the shipped cvf (hole cores on): the hand without depth matted within 2x
 // of the same hand with depth, device equal to the reference; and far better than without the
 // cores (88e-3 and 69e-3 then).
+// The row pass works on bit sets, 64 pixels a word, with r pixels of margin each side, and
+// falls back to a sliding count past 4096 px with the margins: radii across word boundaries
+// (63, 64, 65 and 150: a step of more than a word), widths that are no multiple of 64, and a
+// row too wide for the bit sets, on random holes with wide blobs.
+TEST(HoleCore, DeviceEqualsReferenceAtWideRadiiAndRows) {
+  auto& ctx = cl_context();
+  std::mt19937 rng(11);
+  auto random_depth = [&](int w, int h) {
+    DepthImage d(w, h);
+    for (auto& v : d.elements()) v = rng() % 3 == 0 ? 0 : 1200;
+    for (int blob = 0; blob < 4; ++blob) {
+      const int x0 = static_cast<int>(rng() % w), bw = 20 + static_cast<int>(rng() % 300);
+      for (int y = 0; y < h; ++y)
+        for (int x = x0; x < std::min(w, x0 + bw); ++x) d.at(x, y) = 0;
+    }
+    return d;
+  };
+  for (const auto& [w, h, r] : std::vector<std::tuple<int, int, int>>{{700, 12, 63},
+                                                                      {700, 12, 64},
+                                                                      {700, 12, 65},
+                                                                      {700, 9, 150},
+                                                                      {65, 70, 20},
+                                                                      {3990, 3, 20},
+                                                                      {4200, 3, 5}}) {
+    const DepthImage d = random_depth(w, h);
+    HoleCoreFill fill(ctx);
+    const DeviceImage<std::uint16_t, 1> real(ctx, d);
+    const auto got = fill.run(real, r).download(ctx.queue());
+    const auto want = fill_hole_cores_reference(d, r);
+    EXPECT_TRUE(std::ranges::equal(got.elements(), want.elements())) << w << "x" << h << " r " << r;
+    EXPECT_GT(std::ranges::count(want.elements(), kNearHoleDepthMm), 0) << w << " r " << r;
+    const auto got_marked = fill.mark_near_occluders().download(ctx.queue());
+    const auto want_marked = mark_near_occluders_reference(d, r);
+    EXPECT_TRUE(std::ranges::equal(got_marked.elements(), want_marked.elements()))
+        << "marked, " << w << "x" << h << " r " << r;
+  }
+}
+
 TEST(HoleCore, HandWithoutDepthWithinTwiceWithDepth) {
   ASSERT_GT(CvfLocalParams{}.hole_core_px, 0) << "the shipped cvf takes hole cores";
   for (const bool mug : {true, false}) {
