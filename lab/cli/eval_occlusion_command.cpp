@@ -90,7 +90,7 @@ void add_eval_occlusion_command(CLI::App& eval) {
       ->required();
   cmd->add_option("--json", o->json, "Write the scores as JSON to this file");
   cmd->add_option("--plots", o->plots,
-                  "Write bar plots and example mattes (PNG) into this directory");
+                  "Write bar plots (SVG) and example mattes (PNG) into this directory");
   cmd->add_option(
       "--methods", o->methods,
       "Comma-separated subset of: cvf,cvf_thesis,direct1,direct2,guided,bilateral,crabb,"

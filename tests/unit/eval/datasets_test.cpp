@@ -199,7 +199,7 @@ TEST(EvalOcclusion, SmallMiddleburyCropEndToEnd) {
   const auto j = report_json(report);
   EXPECT_TRUE(j["scenes"][0]["methods"]["cvf"].contains("temporal_noise"));
   EXPECT_TRUE(j["mean"].contains("meta_soft"));
-  EXPECT_TRUE(fs::exists(opts.plots_dir / "mse.png"));
+  EXPECT_TRUE(fs::exists(opts.plots_dir / "mse.svg"));
   EXPECT_TRUE(fs::exists(opts.plots_dir / "v2_venus_plane_cvf.png"));
   EXPECT_NE(format_report(report).find("temporal noise"), std::string::npos);
 }
