@@ -52,7 +52,7 @@ fi
 # Packaging must not have compiled anything (the tree was built by the test's build).
 if grep -Eq '^\[[0-9]+/[0-9]+\] (Building|Linking)' "$scratch/dpkg-buildpackage.log"; then
   grep -E '^\[[0-9]+/[0-9]+\]' "$scratch/dpkg-buildpackage.log" | head -5
-  fail "debian/rules compiled the project again instead of packaging the build tree"
+  fail "debian/rules compiled instead of only packaging $build (out of date? build it first)"
 fi
 deb=$scratch/deb/probeless_${version}_$arch.deb
 lab=$scratch/deb/probeless-lab_${version}_$arch.deb
@@ -175,9 +175,19 @@ echo "installed package runs as probeless on the sim: OK"
 # again on every upgrade). systemctl works on the unit files without a running systemd; the
 # upgrade is the same package with a higher version, so postinst runs with the old version in
 # $2 as in a real upgrade.
+# deb-systemd-helper records the links it made and answers `was-enabled` from them, which
+# is what postinst asks; it runs only under dpkg (DPKG_MAINTSCRIPT_PACKAGE set), so the
+# question is asked here as postinst would, and first while enabled, so that a query that
+# fails cannot pass for "disabled".
+was_enabled() {
+  chroot "$root" env DPKG_MAINTSCRIPT_PACKAGE=probeless \
+    deb-systemd-helper --quiet was-enabled probeless.service
+}
+was_enabled || fail "deb-systemd-helper does not record the enabled unit as enabled"
 chroot "$root" systemctl disable probeless.service >"$scratch/disable.log" 2>&1 ||
   { cat "$scratch/disable.log"; fail "systemctl disable failed in the chroot"; }
 [[ -L $wants ]] && fail "systemctl disable left the unit enabled"
+was_enabled && fail "deb-systemd-helper records the disabled unit as enabled"
 mkdir -p "$scratch/upgrade"
 dpkg-deb -R "$deb" "$scratch/upgrade/tree"
 sed -i "s/^Version: .*/Version: $version+upgradetest1/" "$scratch/upgrade/tree/DEBIAN/control"
@@ -188,8 +198,7 @@ apt_install "$scratch/apt-upgrade.log" "$upgrade"
   fail "the upgrade was not installed"
 still_disabled() {  # still_disabled WHAT
   [[ -L $wants ]] && fail "the $1 enabled the unit the admin disabled"
-  chroot "$root" deb-systemd-helper --quiet was-enabled probeless.service &&
-    fail "after the $1 deb-systemd-helper records the unit as enabled"
+  was_enabled && fail "after the $1 deb-systemd-helper records the unit as enabled"
   return 0
 }
 still_disabled upgrade
