@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 BUILD := build/$(PRESET)
 PROBELESS := $(BUILD)/app/probeless
 
-.PHONY: all setup configure build test test-asan fuzz demo demo-calibrate bench package format clean
+.PHONY: all setup configure build test test-asan fuzz demo demo-calibrate bench deb package format clean
 
 all: build
 
@@ -54,9 +54,24 @@ demo-calibrate: build
 bench: build
 	$(PROBELESS) bench sim
 
-# The Debian package (docs/appliance.md): build/release/probeless_<version>_<arch>.deb
-package: build
-	cd $(BUILD) && cpack
+# The Debian packages (docs/appliance.md "The Debian packages"): debian/rules packages the
+# tree `build` has just built (no second compile inside dpkg-buildpackage) and writes
+# probeless_<version>_<arch>.deb, probeless-lab_... and their -dbgsym .ddebs, the .changes and
+# the .buildinfo to $(DEB_DIR), inside the build tree rather than the checkout's parent.
+DEB_DIR := $(BUILD)/deb
+DEB_VERSION = $(shell dpkg-parsechangelog -S Version)
+DEB_ARCH = $(shell dpkg --print-architecture)
+deb: build
+	rm -rf $(DEB_DIR) && mkdir -p $(DEB_DIR)
+	PROBELESS_BUILD_DIR=$(BUILD) PROBELESS_DEB_DIR=$(DEB_DIR) dpkg-buildpackage -b --no-sign \
+	  --changes-option=-u$(DEB_DIR) --buildinfo-option=-u$(DEB_DIR) \
+	  --changes-file=$(DEB_DIR)/probeless_$(DEB_VERSION)_$(DEB_ARCH).changes \
+	  --buildinfo-file=$(DEB_DIR)/probeless_$(DEB_VERSION)_$(DEB_ARCH).buildinfo
+	lintian --fail-on error $(DEB_DIR)/*.deb
+	@ls -l $(DEB_DIR)/*.deb
+
+# The old name of `make deb`.
+package: deb
 
 format:
 	git ls-files '*.cpp' '*.hpp' '*.cl' | xargs clang-format -i

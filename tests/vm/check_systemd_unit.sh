@@ -25,7 +25,7 @@ if [[ ${1:-} == --in-guest ]]; then
     else failed=$((failed + 1)); echo "FAIL: $what"; fi
   }
   ip link set lo up
-  # As the package installs it (cmake/Packaging.cmake, cmake/deb/postinst).
+  # As the package's maintainer scripts do (debian/: dh_installsysusers, dh_installtmpfiles).
   systemd-sysusers "$src/probeless.sysusers"
   systemd-tmpfiles --create "$src/probeless.tmpfiles"
   sed "s|^ExecStart=/usr/bin/probeless|ExecStart=$binary|" "$src/probeless.service" \
