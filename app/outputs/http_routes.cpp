@@ -38,18 +38,25 @@ void HttpServer::Impl::add_frame_headers(evhttp_request* req) {
   evhttp_add_header(out, "X-UStreamer-Height", std::to_string(size.height).c_str());
 }
 
+bool HttpServer::Impl::make_placeholder(std::string* problem) {
+  if (placeholder) return true;
+  try {
+    placeholder = placeholder_jpeg(kPlaceholderWidth, kPlaceholderHeight, config.jpeg_quality);
+    return true;
+  } catch (const std::exception& e) {
+    if (problem) *problem = e.what();
+    return false;
+  }
+}
+
 void HttpServer::Impl::serve_snapshot(evhttp_request* req) {
   on_frame();  // take a frame published a moment ago even if its wake-up is still queued
   // Before the first frame ustreamer answers 200 with a blank frame and
   // X-UStreamer-Online: false rather than an error: its clients poll and show what they get.
-  if (!current && !placeholder) {
-    try {
-      placeholder = placeholder_jpeg(kPlaceholderWidth, kPlaceholderHeight, config.jpeg_quality);
-    } catch (const std::exception& e) {
-      send_text(req, HTTP_INTERNAL, "Internal Server Error",
-                std::string("placeholder: ") + e.what() + "\n");
-      return;
-    }
+  std::string problem;
+  if (!current && !make_placeholder(&problem)) {
+    send_text(req, HTTP_INTERNAL, "Internal Server Error", "placeholder: " + problem + "\n");
+    return;
   }
   add_frame_headers(req);
   evbuffer* body = evbuffer_new();

@@ -429,7 +429,35 @@ void HttpServer::Impl::serve_stream(evhttp_request* req) {
 }
 
 void HttpServer::Impl::offer(StreamClient& client) {
-  if (!current || client.request == nullptr || client.last_sent >= current->sequence) return;
+  if (client.request == nullptr) return;
+  if (!current) {
+    // ustreamer streams its blank frame until the source sends one: a viewer that connects
+    // before the first frame sees NO SIGNAL (X-UStreamer-Online: false), not a hung request.
+    const TimestampNs now = monotonic_now_ns();
+    if (client.frames_sent == 0 && make_placeholder())
+      send_part(client, placeholder,
+                {.length = placeholder->size(),
+                 .capture_ns = now,
+                 .capture_wall_ns = wall_clock_ns(now),
+                 .online = false,
+                 .size = shown_size()},
+                0);
+    return;
+  }
+  if (client.last_sent >= current->sequence) return;
+  const EncodedFrame& frame = current->value;
+  send_part(client, frame.jpeg,
+            {.length = frame.jpeg->size(),
+             .capture_ns = frame.timestamp_ns,
+             .capture_wall_ns = current_wall_ns,
+             .online = !frame.no_signal,
+             .size = current_size},
+            current->sequence);
+}
+
+void HttpServer::Impl::send_part(StreamClient& client,
+                                 const std::shared_ptr<const std::vector<std::uint8_t>>& jpeg,
+                                 const PartFrame& frame, std::uint64_t sequence) {
   evhttp_connection* conn = evhttp_request_get_connection(client.request);
   if (conn == nullptr) return;  // failed; its close callback removes it
   bufferevent* bev = evhttp_connection_get_bufferevent(conn);
@@ -440,22 +468,16 @@ void HttpServer::Impl::offer(StreamClient& client) {
     return;  // skipped for now; the drain callback offers the newest frame again
   }
 
-  const EncodedFrame& frame = current->value;
   const TimestampNs now = monotonic_now_ns();
   evbuffer* part = evbuffer_new();
   std::string head;
   if (!client.options.advance_headers) {
-    head = stream_part_head({.length = frame.jpeg->size(),
-                             .capture_ns = frame.timestamp_ns,
-                             .capture_wall_ns = current_wall_ns,
-                             .online = !frame.no_signal,
-                             .size = current_size},
-                            client.options.extra_headers, client.sent_rate.rate_hz(now));
+    head = stream_part_head(frame, client.options.extra_headers, client.sent_rate.rate_hz(now));
   } else if (client.frames_sent == 0) {
     head = advance_part_head();  // later parts' heads went out after the frame before
   }
   evbuffer_add(part, head.data(), head.size());
-  add_jpeg_reference(part, frame.jpeg);
+  add_jpeg_reference(part, jpeg);
   evbuffer_add(part, "\r\n", 2);
   if (client.options.advance_headers) {
     const std::string next = advance_part_head();
@@ -468,8 +490,8 @@ void HttpServer::Impl::offer(StreamClient& client) {
   // written later, from the loop, so the difference is what this part added.
   const std::size_t after = evbuffer_get_length(bufferevent_get_output(bev));
   std::lock_guard lock(stats_mutex);
-  if (client.last_sent > 0) client.skipped += current->sequence - client.last_sent - 1;
-  client.last_sent = current->sequence;
+  if (client.last_sent > 0 && sequence > 0) client.skipped += sequence - client.last_sent - 1;
+  client.last_sent = sequence;
   ++client.frames_sent;
   client.sent_rate.tick(now);
   client.bytes_added += after > buffered ? after - buffered : part_bytes;

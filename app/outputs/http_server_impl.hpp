@@ -129,7 +129,13 @@ struct HttpServer::Impl {
   void send_body(evhttp_request* req, int code, const char* reason, const char* content_type,
                  evbuffer* body);
   void send_text(evhttp_request* req, int code, const char* reason, const std::string& text);
+  // The placeholder JPEG (made at the first need); false if it could not be made.
+  bool make_placeholder(std::string* problem = nullptr);
   void offer(StreamClient& client);
+  // One multipart part to `client`: `jpeg` with the headers `frame` describes; the newest
+  // frame's sequence (0 for the placeholder) is what the client has seen.
+  void send_part(StreamClient& client, const std::shared_ptr<const std::vector<std::uint8_t>>& jpeg,
+                 const PartFrame& frame, std::uint64_t sequence);
   void drained(StreamClient& client);
   void drop_slow_streams();
   void remove(StreamClient* client);

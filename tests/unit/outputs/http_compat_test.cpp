@@ -116,6 +116,35 @@ TEST(HttpCompat, BeforeTheFirstFrameStateIsOfflineAndSnapshotAPlaceholder) {
   EXPECT_EQ(image.height(), state["result"]["source"]["resolution"]["height"].get<int>());
 }
 
+// A viewer that connects before the first frame gets ustreamer's blank frame at once, marked
+// offline, then the first real frame when it comes.
+TEST(HttpCompat, BeforeTheFirstFrameTheStreamShowsThePlaceholder) {
+  HttpServer server(ephemeral());
+  testing::TcpClient client(server.port());
+  client.send_all("GET /stream?extra_headers=1 HTTP/1.0\r\nHost: localhost\r\n\r\n");
+  std::string raw;
+  const auto deadline = std::chrono::steady_clock::now() + 5s;
+  while (std::chrono::steady_clock::now() < deadline && raw.find("\xff\xd9") == std::string::npos)
+    client.receive(raw, 100ms);
+  ASSERT_NE(raw.find("X-UStreamer-Online: false"), std::string::npos) << raw.substr(0, 300);
+  const std::size_t soi = raw.find("\xff\xd8"), eoi = raw.find("\xff\xd9");
+  ASSERT_NE(soi, std::string::npos);
+  ASSERT_NE(eoi, std::string::npos);
+  const ImageRGB8 blank = decode(raw.substr(soi, eoi + 2 - soi));
+  EXPECT_GT(blank.width(), 0);
+
+  const EncodedFrame f = frame(96, 64, monotonic_now_ns());
+  server.publish(f);
+  const std::string jpeg(f.jpeg->begin(), f.jpeg->end());
+  const auto second = std::chrono::steady_clock::now() + 5s;
+  while (std::chrono::steady_clock::now() < second && raw.find(jpeg) == std::string::npos)
+    client.receive(raw, 100ms);
+  const std::size_t at = raw.find(jpeg);
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_GT(at, eoi);
+  EXPECT_NE(raw.substr(eoi, at - eoi).find("X-UStreamer-Online: true"), std::string::npos);
+}
+
 // The requests of a ustreamer client once the source is live, in the order kvmd's streamer
 // client and ustreamer's page make them, each with the answer ustreamer gives.
 TEST(HttpCompat, AUstreamerClientsRequestsAreAnsweredAsUstreamerWould) {
