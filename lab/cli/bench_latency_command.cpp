@@ -37,8 +37,23 @@ struct BenchLatencyOptions {
   double seconds = 10;  // per path
   double warmup_s = 5;  // service frames before the first path, and per path once it plays
   std::string source = "sim:stamp=1";
+  bool prerender = false;
   std::string json;
 };
+
+// With --prerender, the sim's frames for the whole run rendered before its clock starts
+// (docs/sim.md `prerender`), without truth (1.5 MB a frame instead of 2.5): the camera then
+// costs the machine no CPU, as a real camera's exposure and readout cost the appliance none,
+// and what is measured is the appliance. 30 frames a second of the run, with a margin for the
+// service's start and each path's wait for its first frame.
+std::string source_spec(const BenchLatencyOptions& o) {
+  if (!o.prerender) return o.source;
+  if (o.source.rfind("sim", 0) != 0)
+    throw CommandError("bench latency: --prerender needs a sim source, not " + o.source);
+  const double run_s = 3 * o.warmup_s + 2 * o.seconds + 20;
+  const auto frames = static_cast<long>(std::ceil(run_s * 30));
+  return o.source + (o.source == "sim" ? ":" : ",") + "truth=0,prerender=" + std::to_string(frames);
+}
 
 // Where the service's outputs are, as the paths' receivers need them.
 struct ServiceEndpoints {
@@ -144,13 +159,14 @@ void run_bench(const BenchLatencyOptions& o) {
   const auto config = std::filesystem::temp_directory_path() /
                       fmt::format("probeless-bench-latency-{}.toml", getpid());
   std::ofstream(config) << "[rtsp]\nenabled = true\nport = 0\n";
-  lab::ServiceUnderTest service({"--source", o.source, "--config", config.string()});
+  const std::string source = source_spec(o);
+  lab::ServiceUnderTest service({"--source", source, "--config", config.string()});
   std::filesystem::remove(config);
   ServiceEndpoints endpoints{service.port(), {}};
   if (const auto s = service.status(); s.contains("rtsp"))
     endpoints.rtsp_url = s["rtsp"].value("url", "");
   std::cout << fmt::format("bench latency: service pid {} on {}, http port {}, {}\n", service.pid(),
-                           o.source, endpoints.http_port,
+                           source, endpoints.http_port,
                            endpoints.rtsp_url.empty() ? "no RTSP" : endpoints.rtsp_url)
             << std::flush;
   // The first frames build the OpenCL programs and the tracker finds its feet.
@@ -180,7 +196,7 @@ void run_bench(const BenchLatencyOptions& o) {
   if (!service.alive()) throw CommandError("bench latency: the service died");
   const nlohmann::json status = service.status();
   const auto load_after = load_average();
-  report["details"] = {{"source", o.source},
+  report["details"] = {{"source", source},
                        {"clock",
                         "CLOCK_MONOTONIC: the source's frame timestamp, stamped into the picture, "
                         "against this process's clock as each frame is decoded"},
@@ -209,6 +225,9 @@ void add_bench_latency_command(CLI::App& bench) {
   cmd->add_option("--source", o->source,
                   "A source that stamps its frames (sim:stamp=1; a recording: "
                   "replay:DIR?rebase=1,stamp=1)");
+  cmd->add_flag("--prerender", o->prerender,
+                "The sim's frames rendered before timing (truth=0,prerender=N): the camera "
+                "costs no CPU; about 1.5 MB a frame, 2.5 GB at the defaults");
   cmd->add_option("--json", o->json, "Write the report as JSON");
   cmd->callback([o] { run_bench(*o); });
 }
