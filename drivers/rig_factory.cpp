@@ -69,8 +69,8 @@ Rig open_combined_rig(std::string_view rgbd_spec, std::string fisheye_spec) {
 }  // namespace
 
 std::string rig_spec_help() {
-  return "sim, sim:<options>, replay:DIR[?realtime=0,loop=1,rebase=1], "
-         "tum:DIR[?realtime=0,loop=1,calibration=FILE], "
+  return "sim, sim:<options>, replay:DIR[?realtime=0,loop=1,rebase=1,stamp=1], "
+         "tum:DIR[?realtime=0,loop=1,rebase=1,stamp=1,calibration=FILE], "
          "v4l2:DEVICE[?size=WxH&fps=N&calibration=FILE...], RGBD_SPEC+v4l2:DEVICE[?...], "
          "libcamera:[CAMERA_ID][?size=WxH&format=NAME&calibration=FILE...], "
          "RGBD_SPEC+libcamera:[CAMERA_ID][?...], "
@@ -117,7 +117,7 @@ Rig open_rig(std::string_view spec) {
     for (const auto& [key, value] : extra) {
       if (key != "calibration") {
         throw std::invalid_argument("tum: unknown option '" + key +
-                                    "' (known: realtime, loop, rebase, calibration)");
+                                    "' (known: realtime, loop, rebase, stamp, calibration)");
       }
       calibration = value;
     }

@@ -20,13 +20,13 @@ KmsDisplay::~KmsDisplay() {
   stop();
 }
 
-void KmsDisplay::submit(std::shared_ptr<const ImageRGB8> frame) {
+void KmsDisplay::submit(std::shared_ptr<const ImageRGB8> frame, TimestampNs capture_ns) {
   if (!frame || frame->empty()) return;
   {
     std::lock_guard lock(mutex_);
     ++stats_.frames_in;
   }
-  frames_.publish(std::move(frame));
+  frames_.publish(Submitted{std::move(frame), capture_ns});
 }
 
 void KmsDisplay::stop() {
@@ -69,7 +69,7 @@ bool KmsDisplay::open_screen(std::unique_ptr<display::KmsScreen>& screen) {
 
 void KmsDisplay::run(std::stop_token stop) {
   std::unique_ptr<display::KmsScreen> screen;  // lives and dies on this thread (EGL context)
-  LatestFrame<std::shared_ptr<const ImageRGB8>>::Sequence seen = 0;
+  LatestFrame<Submitted>::Sequence seen = 0;
   TimestampNs last_vblank = 0;
   std::mutex wait_mutex;
   std::condition_variable_any retry_wait;
@@ -83,7 +83,7 @@ void KmsDisplay::run(std::stop_token stop) {
     if (!item) continue;
     seen = item->sequence;
     try {
-      const auto result = screen->present(*item->value);
+      const auto result = screen->present(*item->value.image);
       rate_.tick(monotonic_now_ns());
       std::lock_guard lock(mutex_);
       ++stats_.frames_shown;
@@ -93,6 +93,10 @@ void KmsDisplay::run(std::stop_token stop) {
           stats_.last_flip_interval_ms =
               static_cast<double>(result.flip->timestamp_ns - last_vblank) * 1e-6;
         last_vblank = result.flip->timestamp_ns;
+        if (item->value.capture_ns > 0)
+          latency_.record(
+              "capture_to_flip",
+              static_cast<double>(result.flip->timestamp_ns - item->value.capture_ns) * 1e-6);
       }
     } catch (const std::exception& e) {
       record_error(e.what());
@@ -107,6 +111,9 @@ KmsDisplayStats KmsDisplay::stats() const {
   KmsDisplayStats s = stats_;
   s.dropped = frames_.drops();
   s.flips_per_s = rate_.rate_hz(monotonic_now_ns());
+  const auto latency = latency_.summaries();
+  if (auto it = latency.find("capture_to_flip"); it != latency.end())
+    s.capture_to_flip = it->second;
   return s;
 }
 
@@ -124,6 +131,8 @@ nlohmann::json KmsDisplay::status() const {
           {"dropped", s.dropped},
           {"flips_per_s", s.flips_per_s},
           {"last_flip_interval_ms", s.last_flip_interval_ms},
+          {"capture_to_flip",
+           {{"p50_ms", s.capture_to_flip.p50_ms}, {"p99_ms", s.capture_to_flip.p99_ms}}},
           {"last_error", s.last_error}};
 }
 

@@ -43,6 +43,11 @@ struct KmsDisplayStats {
   std::uint64_t dropped = 0;       // replaced before the display thread took them
   double flips_per_s = 0;
   double last_flip_interval_ms = 0;  // between the last two vblank timestamps
+  // A frame's capture time (CLOCK_MONOTONIC) to the vblank event of the flip that showed it,
+  // over the last 300 flips (none: 0): the display path's share of glass-to-glass latency,
+  // reported as `bench latency` reports the streams' (docs/outputs.md). NO SIGNAL repeats,
+  // which carry an old capture time, are not counted.
+  TimingSummary capture_to_flip;
   std::string last_error;
 };
 
@@ -54,7 +59,8 @@ class KmsDisplay final : public Output {
   KmsDisplay(const KmsDisplay&) = delete;
   KmsDisplay& operator=(const KmsDisplay&) = delete;
 
-  void submit(std::shared_ptr<const ImageRGB8> frame);
+  // `capture_ns`: the frame's capture time for capture_to_flip; 0 leaves the frame out of it.
+  void submit(std::shared_ptr<const ImageRGB8> frame, TimestampNs capture_ns = 0);
   // Joins the thread; the screen's destructor puts the previous CRTC back. Idempotent.
   void stop() override;
 
@@ -64,7 +70,9 @@ class KmsDisplay final : public Output {
   // Output: NO SIGNAL frames too, the screen shows the fault.
   std::string_view name() const override { return "display"; }
   OutputNeeds needs() const override { return {.colour = true}; }
-  void offer(const OutputFrame& frame) override { submit(frame.colour); }
+  void offer(const OutputFrame& frame) override {
+    submit(frame.colour, frame.no_signal ? 0 : frame.timestamp_ns);
+  }
   void add_status(nlohmann::json& j) const override { j["display"] = status(); }
 
  private:
@@ -73,7 +81,12 @@ class KmsDisplay final : public Output {
   void record_error(const std::string& what);
 
   KmsDisplayConfig config_;
-  LatestFrame<std::shared_ptr<const ImageRGB8>> frames_;
+  struct Submitted {
+    std::shared_ptr<const ImageRGB8> image;
+    TimestampNs capture_ns = 0;
+  };
+  LatestFrame<Submitted> frames_;
+  StageStats latency_;  // "capture_to_flip"
   RateMeter rate_;
   mutable std::mutex mutex_;
   KmsDisplayStats stats_;

@@ -29,12 +29,26 @@ PlaybackOptions parse_playback_options(std::string_view spec,
     const std::size_t eq = item.find('=');
     const std::string key(item.substr(0, eq));
     const std::string value(eq == std::string_view::npos ? "1" : item.substr(eq + 1));
-    if (key == "realtime") options.realtime = parse_bool(key, value);
-    else if (key == "loop") options.loop = parse_bool(key, value);
-    else if (key == "rebase") options.rebase = parse_bool(key, value);
-    else if (rest) rest->emplace_back(key, value);
-    else throw std::invalid_argument("unknown option '" + key + "' (known: realtime, loop, rebase)");
+    if (key == "realtime")
+      options.realtime = parse_bool(key, value);
+    else if (key == "loop")
+      options.loop = parse_bool(key, value);
+    else if (key == "rebase")
+      options.rebase = parse_bool(key, value);
+    else if (key == "stamp")
+      options.stamp = parse_bool(key, value);
+    else if (rest)
+      rest->emplace_back(key, value);
+    else
+      throw std::invalid_argument("unknown option '" + key +
+                                  "' (known: realtime, loop, rebase, stamp)");
   }
+  // Without rebase the stamp would carry another boot's clock and every latency read from it
+  // would be nonsense rather than missing.
+  if (options.stamp && !options.rebase)
+    throw std::invalid_argument(
+        "option stamp=1 needs rebase=1 (the stamp is the capture time on this machine's "
+        "clock)");
   return options;
 }
 

@@ -25,10 +25,15 @@ struct PlaybackOptions {
   // Shift timestamps so that the first frame carries the time of the first read
   // (CLOCK_MONOTONIC), as a live source's would.
   bool rebase = false;
+  // The RGB-D frame's (rebased) capture time drawn into its colour image as a binary code
+  // (core/capture_stamp.hpp), for the glass-to-glass latency bench. Needs `rebase`: a
+  // recorded timestamp is on the clock of the boot that recorded it.
+  bool stamp = false;
 };
 
-// Parses "realtime=0,loop=1,rebase=1" (',' or '&' between items); other keys are returned in
-// `rest` as key/value pairs for the caller. Throws std::invalid_argument naming a bad value.
+// Parses "realtime=0,loop=1,rebase=1,stamp=1" (',' or '&' between items); other keys are
+// returned in `rest` as key/value pairs for the caller. Throws std::invalid_argument naming a
+// bad value, or `stamp` without `rebase`.
 PlaybackOptions parse_playback_options(std::string_view spec,
                                        std::vector<std::pair<std::string, std::string>>* rest);
 
@@ -66,6 +71,7 @@ class Playback {
   // Blocks at most `timeout` (until the next frame is due in realtime mode).
   Next next(std::chrono::milliseconds timeout);
   SourceState state() const { return state_; }
+  const PlaybackOptions& options() const { return options_; }
 
  private:
   TimestampNs shifted(std::size_t index, std::int64_t pass) const;

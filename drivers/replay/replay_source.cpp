@@ -1,5 +1,6 @@
 #include "drivers/replay/replay_source.hpp"
 
+#include "core/capture_stamp.hpp"
 #include "drivers/io/png.hpp"
 
 namespace probeless::replay {
@@ -44,7 +45,11 @@ ReplayRgbdSource::ReplayRgbdSource(std::shared_ptr<const Recording> recording,
       loader_(recording) {}
 
 ReadResult ReplayRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeout) {
-  return deliver(playback_.next(timeout), recording_->rgbd(), loader_, frame, last_error_);
+  const ReadResult r =
+      deliver(playback_.next(timeout), recording_->rgbd(), loader_, frame, last_error_);
+  if (r == ReadResult::Frame && playback_.options().stamp)
+    draw_capture_stamp(frame.colour, frame.timestamp_ns);
+  return r;
 }
 
 std::string ReplayRgbdSource::name() const { return "replay:" + recording_->dir().string(); }

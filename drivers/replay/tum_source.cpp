@@ -6,6 +6,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "core/capture_stamp.hpp"
 #include "core/error.hpp"
 #include "drivers/io/png.hpp"
 #include "drivers/replay/calibration_file.hpp"
@@ -173,6 +174,7 @@ ReadResult TumRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
     out.timestamp_ns = f.timestamp_ns + next.timestamp_offset;
     out.colour = read_png_rgb8(sequence_->dir / f.colour);
     out.depth = tum_depth_to_mm(read_png_depth16(sequence_->dir / f.depth));
+    if (playback_.options().stamp) draw_capture_stamp(out.colour, out.timestamp_ns);
     if (out.depth.width() != out.colour.width() || out.depth.height() != out.colour.height()) {
       throw ImageFileError(sequence_->dir / f.depth,
                            "depth is " + std::to_string(out.depth.width()) + "x" +

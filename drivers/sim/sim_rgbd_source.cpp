@@ -3,6 +3,7 @@
 #include <cmath>
 #include <thread>
 
+#include "core/capture_stamp.hpp"
 #include "core/depth_noise.hpp"
 #include "drivers/sim/sim_random.hpp"
 #include "drivers/sim/sim_sources.hpp"
@@ -112,6 +113,9 @@ ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
   } else {
     render_frame(next_, frame);
   }
+  // After the timestamp is final (a prerendered frame gets its own here), and on the copy
+  // handed out, so the prerendered frames stay as rendered.
+  if (options_.stamp) draw_capture_stamp(frame.colour, frame.timestamp_ns);
   ++next_;
   state_ = SourceState::Streaming;
   return ReadResult::Frame;

@@ -108,6 +108,8 @@ SimOptions parse_sim_options(std::string_view spec) {
       o.board = parse_bool(key, value);
     } else if (key == "near_occluder") {
       o.near_occluder = parse_bool(key, value);
+    } else if (key == "stamp") {
+      o.stamp = parse_bool(key, value);
     } else if (key == "edge_samples") {
       o.edge_samples = parse_number<int>(key, value, "an integer");
       if (o.edge_samples < 1 || o.edge_samples > 8) bad(key, value, "1..8");
@@ -164,7 +166,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "frames, "
           "prerender, stall, stall_every, "
           "truth, "
-          "threads, start, board, near_occluder, edge_samples)");
+          "threads, start, board, near_occluder, edge_samples, stamp)");
     }
   }
   return o;

@@ -78,6 +78,11 @@ struct SimOptions {
   // true foreground and fractional matte for the occlusion evaluator's composite error,
   // docs/occlusion.md). Off (1) by default: the frames without it are unchanged.
   int edge_samples = 1;
+  // The frame's capture time (its timestamp, CLOCK_MONOTONIC) drawn into the bottom-left
+  // corner of the colour image as a binary code (core/capture_stamp.hpp), for the
+  // glass-to-glass latency bench (`probeless bench latency`, docs/outputs.md). Off by default:
+  // the code covers 144 x 48 pixels of the picture.
+  bool stamp = false;
 };
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
@@ -86,7 +91,7 @@ struct SimOptions {
 // fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file),
 // fisheye_ocam_model (ocam or kannala_brandt: that lens fitted), frames (max_frames), stall
 // (BEGIN:END), stall_every (frames), truth, threads, start (seconds of world time at the first
-// frame), near_occluder (0|1), edge_samples (1..8).
+// frame), near_occluder (0|1), edge_samples (1..8), stamp (0|1).
 SimOptions parse_sim_options(std::string_view spec);
 
 // Rig from drivers/source.hpp (rgbd + fisheye + calibration, and its scene: object_anchor()

@@ -5,6 +5,7 @@
 #include <netinet/in.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
@@ -76,6 +77,9 @@ ServiceUnderTest::ServiceUnderTest(std::vector<std::string> args, int nice_level
   argv.push_back(nullptr);
   pid_ = fork();
   if (pid_ == 0) {
+    // A bench killed before its destructor runs (SIGPIPE into a closed pager, Ctrl-C) must
+    // not leave a service loading the machine for the next measurement.
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
     dup2(pipe_fds[1], STDOUT_FILENO);
     if (nice_level > 0 && nice(nice_level) < 0) _exit(126);
     const rlimit limit{static_cast<rlim_t>(nofile), static_cast<rlim_t>(nofile)};

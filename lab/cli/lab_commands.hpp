@@ -36,6 +36,8 @@ void add_bench_tracking_command(CLI::App& bench);
 void add_bench_soak_command(CLI::App& bench);
 // probeless bench http [--json F] (bench_http_command.cpp)
 void add_bench_http_command(CLI::App& bench);
+// probeless bench latency [--seconds N --json F] (bench_latency_command.cpp)
+void add_bench_latency_command(CLI::App& bench);
 
 // probeless eval occlusion --dataset KIND:DIR [--json F --plots D] (eval_occlusion_command.cpp)
 void add_eval_occlusion_command(CLI::App& eval);

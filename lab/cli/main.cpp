@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     probeless::cli::add_bench_tracking_command(*bench);
     probeless::cli::add_bench_soak_command(*bench);
     probeless::cli::add_bench_http_command(*bench);
+    probeless::cli::add_bench_latency_command(*bench);
     auto* eval = a.add_subcommand("eval", "Evaluations against ground truth");
     eval->require_subcommand(1);
     probeless::cli::add_eval_occlusion_command(*eval);

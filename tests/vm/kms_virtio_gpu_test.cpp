@@ -260,17 +260,22 @@ TEST_F(VirtioGpu, TheDisplayOutputFlipsSubmittedFramesOnItsOwnThread) {
   const auto deadline = std::chrono::steady_clock::now() + 20s;
   int i = 0;
   while (display.stats().flips < 8 && std::chrono::steady_clock::now() < deadline) {
-    display.submit(std::make_shared<const ImageRGB8>(test_card(i++, 640, 360)));
+    // Submitted as if just captured: capture_to_flip is then the display path's own time.
+    display.submit(std::make_shared<const ImageRGB8>(test_card(i++, 640, 360)), monotonic_now_ns());
     std::this_thread::sleep_for(20ms);  // faster than the display: some frames are dropped
   }
   const KmsDisplayStats s = display.stats();
   std::printf(
       "display output: %llu in, %llu shown, %llu flips, %llu dropped, %.1f flips/s, "
-      "last interval %.1f ms\n",
+      "last interval %.1f ms, submit to flip p50 %.1f ms p99 %.1f ms\n",
       static_cast<unsigned long long>(s.frames_in), static_cast<unsigned long long>(s.frames_shown),
       static_cast<unsigned long long>(s.flips), static_cast<unsigned long long>(s.dropped),
-      s.flips_per_s, s.last_flip_interval_ms);
+      s.flips_per_s, s.last_flip_interval_ms, s.capture_to_flip.p50_ms, s.capture_to_flip.p99_ms);
   EXPECT_EQ(s.state, "showing") << s.last_error;
+  // The flip's vblank time is on CLOCK_MONOTONIC, as the capture times are: positive, and
+  // within the 20 s the loop may take.
+  EXPECT_GT(s.capture_to_flip.p50_ms, 0);
+  EXPECT_LT(s.capture_to_flip.p99_ms, 20000);
   EXPECT_GE(s.flips, 8u);
   EXPECT_GT(s.dropped, 0u);
   EXPECT_EQ(s.mode.rfind("640x480@", 0), 0u) << s.mode;
@@ -279,6 +284,7 @@ TEST_F(VirtioGpu, TheDisplayOutputFlipsSubmittedFramesOnItsOwnThread) {
   EXPECT_TRUE(s.last_error.empty()) << s.last_error;
   const auto j = display.status();
   EXPECT_EQ(j["connector"], "Virtual-1");
+  EXPECT_EQ(j["capture_to_flip"]["p50_ms"], s.capture_to_flip.p50_ms);
   display.stop();
   EXPECT_EQ(crtc_state().width, 1280) << "the console's 1280x800 is not back";
 }

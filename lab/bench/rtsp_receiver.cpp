@@ -1,0 +1,80 @@
+#include "lab/bench/rtsp_receiver.hpp"
+
+#include <gst/app/gstappsink.h>
+#include <gst/video/video.h>
+
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+
+namespace probeless::lab {
+
+RtspReceiver::RtspReceiver(const std::string& url) {
+  gst::ensure_gstreamer();
+  // latency=0: no jitter-buffer delay on loopback. output-corrupt=false: nothing shown before
+  // the first keyframe, as players do. thread-type=slice: FFmpeg's frame threading holds one
+  // frame back per extra thread (33 ms at 30 Hz on two cores), a player's choice, not the
+  // service's latency. sync=false: a frame is taken when decoded, not at its PTS.
+  const std::string launch =
+      "rtspsrc location=" + url +
+      " protocols=tcp latency=0 ! rtph264depay ! avdec_h264 output-corrupt=false "
+      "thread-type=slice ! videoconvert ! video/x-raw,format=RGB ! appsink name=sink "
+      "sync=false max-buffers=4 drop=false";
+  GError* raw = nullptr;
+  pipeline_ = gst::Element::adopt_sink(gst_parse_launch(launch.c_str(), &raw));
+  if (raw) {
+    const std::unique_ptr<GError, gst::ErrorDeleter> error(raw);
+    throw std::runtime_error("rtsp receiver: " + std::string(error->message) +
+                             " (gstreamer1.0-plugins-good and -libav)");
+  }
+  sink_ = gst::Element::adopt(gst_bin_get_by_name(GST_BIN(pipeline_.get()), "sink"));
+  if (gst_element_set_state(pipeline_.get(), GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
+    throw std::runtime_error("rtsp receiver: cannot play " + url);
+}
+
+RtspReceiver::~RtspReceiver() {
+  if (pipeline_) gst_element_set_state(pipeline_.get(), GST_STATE_NULL);
+}
+
+void RtspReceiver::throw_if_ended() {
+  const auto bus = gst::Bus::adopt(gst_element_get_bus(pipeline_.get()));
+  GstMessage* msg = gst_bus_pop_filtered(
+      bus.get(), static_cast<GstMessageType>(GST_MESSAGE_ERROR | GST_MESSAGE_EOS));
+  if (!msg) return;
+  std::string what = "the stream ended";
+  if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_ERROR) {
+    GError* raw = nullptr;
+    gst_message_parse_error(msg, &raw, nullptr);
+    const std::unique_ptr<GError, gst::ErrorDeleter> error(raw);
+    what = error ? error->message : "an error";
+  }
+  gst_message_unref(msg);
+  throw std::runtime_error("rtsp receiver: " + what);
+}
+
+std::optional<ReceivedFrame> RtspReceiver::next(std::chrono::milliseconds timeout) {
+  auto sample = gst::Sample::adopt(gst_app_sink_try_pull_sample(
+      GST_APP_SINK(sink_.get()), static_cast<GstClockTime>(timeout.count()) * GST_MSECOND));
+  if (!sample) {
+    throw_if_ended();
+    return std::nullopt;
+  }
+  ReceivedFrame out;
+  out.decoded_ns = monotonic_now_ns();  // before the copy below, which is the bench's own
+  GstVideoInfo info;
+  if (!gst_video_info_from_caps(&info, gst_sample_get_caps(sample.get())))
+    throw std::runtime_error("rtsp receiver: a sample without video caps");
+  GstVideoFrame frame;
+  if (!gst_video_frame_map(&frame, &info, gst_sample_get_buffer(sample.get()), GST_MAP_READ))
+    throw std::runtime_error("rtsp receiver: cannot map a decoded frame");
+  out.image = ImageRGB8(GST_VIDEO_INFO_WIDTH(&info), GST_VIDEO_INFO_HEIGHT(&info));
+  const auto* data = static_cast<const std::uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, 0));
+  const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&frame, 0);
+  for (int y = 0; y < out.image.height(); ++y)
+    std::memcpy(out.image.row(y), data + static_cast<std::ptrdiff_t>(y) * stride,
+                out.image.row_elements());
+  gst_video_frame_unmap(&frame);
+  return out;
+}
+
+}  // namespace probeless::lab
