@@ -7,7 +7,8 @@
 // one work-item per row and per column, 0.76 ms (a column walk touches a cache line per row);
 // with 16 columns a work-item in the column pass 0.47-0.63 ms. (A per-pixel early exit in the
 // row pass measured 2.0 ms on that test's wide hole.) The rows as bit sets (hole_core_rows)
-// then took both passes from 0.78-0.80 to 0.42-0.45 ms in one run at load 11.
+// then took both passes from 0.78-0.80 to 0.42-0.45 ms in one run at load 11; work-groups of
+// one work-item (hole_core.cpp) from 0.59-0.68 to 0.33-0.52 ms, quiet.
 
 // The rule of both passes: n of the window's span pixels hit, all of them (need_all) or any.
 inline int window_rule(int n, int span, int need_all) {

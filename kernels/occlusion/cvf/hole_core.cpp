@@ -28,7 +28,10 @@ void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::
   rows_.setArg(a++, radius);
   rows_.setArg(a++, static_cast<cl_ushort>(value));
   rows_.setArg(a++, need_all ? 1 : 0);
-  ctx_.queue().enqueueNDRangeKernel(rows_, ::cl::NullRange, ::cl::NDRange(std::size_t(h)));
+  // Work-groups of one work-item: PoCL would otherwise put all rows (or all column groups)
+  // into one work-group, which runs on one core while the other waits.
+  ctx_.queue().enqueueNDRangeKernel(rows_, ::cl::NullRange, ::cl::NDRange(std::size_t(h)),
+                                    ::cl::NDRange(1));
   a = 0;
   fill_.setArg(a++, depth.buffer());
   fill_.setArg(a++, row_hits_.buffer());
@@ -38,7 +41,8 @@ void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::
   fill_.setArg(a++, radius);
   fill_.setArg(a++, need_all ? 1 : 0);
   ctx_.queue().enqueueNDRangeKernel(fill_, ::cl::NullRange,
-                                    ::cl::NDRange(static_cast<std::size_t>((w + 15) / 16)));
+                                    ::cl::NDRange(static_cast<std::size_t>((w + 15) / 16)),
+                                    ::cl::NDRange(1));
 }
 
 const DeviceImage<std::uint16_t, 1>& HoleCoreFill::run(const DeviceImage<std::uint16_t, 1>& depth,
