@@ -1,5 +1,8 @@
 #include "app/outputs/gst_objects.hpp"
 
+#include <gst/video/video.h>
+
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -19,6 +22,22 @@ void ensure_gstreamer() {
     }
   });
   if (!failure.empty()) throw std::runtime_error(failure);
+}
+
+ImageRGB8 rgb_image_of(GstSample* sample, const char* who) {
+  GstVideoInfo info;
+  if (!gst_video_info_from_caps(&info, gst_sample_get_caps(sample)))
+    throw std::runtime_error(std::string(who) + ": a sample without video caps");
+  GstVideoFrame frame;
+  if (!gst_video_frame_map(&frame, &info, gst_sample_get_buffer(sample), GST_MAP_READ))
+    throw std::runtime_error(std::string(who) + ": cannot map a decoded frame");
+  ImageRGB8 image(GST_VIDEO_INFO_WIDTH(&info), GST_VIDEO_INFO_HEIGHT(&info));
+  const auto* data = static_cast<const std::uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, 0));
+  const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&frame, 0);
+  for (int y = 0; y < image.height(); ++y)
+    std::memcpy(image.row(y), data + static_cast<std::ptrdiff_t>(y) * stride, image.row_elements());
+  gst_video_frame_unmap(&frame);
+  return image;
 }
 
 }  // namespace probeless::gst

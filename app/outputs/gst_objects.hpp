@@ -10,6 +10,8 @@
 
 #include <utility>
 
+#include "core/image.hpp"
+
 namespace probeless::gst {
 
 template <typename T, auto Unref>
@@ -69,5 +71,10 @@ struct ErrorDeleter {
 
 // gst_init_check() once per process; throws std::runtime_error with GStreamer's reason.
 void ensure_gstreamer();
+
+// The packed RGB frame of a decoded video sample (an appsink's, caps video/x-raw RGB), copied
+// row by row past GStreamer's stride; std::runtime_error naming `who` without video caps or
+// when the buffer cannot be mapped. The RTSP clients' decode (tests, `bench latency`).
+ImageRGB8 rgb_image_of(GstSample* sample, const char* who);
 
 }  // namespace probeless::gst

@@ -41,7 +41,8 @@ PlaybackOptions parse_playback_options(std::string_view spec,
 // recorded relative timing. Starts at the first call of either stream.
 class PlaybackClock {
  public:
-  explicit PlaybackClock(TimestampNs recording_start_ns) : recording_start_ns_(recording_start_ns) {}
+  explicit PlaybackClock(TimestampNs recording_start_ns)
+      : recording_start_ns_(recording_start_ns) {}
   // CLOCK_MONOTONIC time at which recorded time `t` is due.
   TimestampNs due_ns(TimestampNs t);
   // Offset added to timestamps when rebasing (starts the clock).
@@ -58,7 +59,7 @@ class Playback {
  public:
   struct Next {
     ReadResult result = ReadResult::NoFrameYet;
-    std::size_t index = 0;             // entry to deliver (result == Frame)
+    std::size_t index = 0;              // entry to deliver (result == Frame)
     std::uint64_t sequence_offset = 0;  // add to the recorded sequence
     TimestampNs timestamp_offset = 0;   // add to the recorded timestamp
   };

@@ -52,7 +52,9 @@ ReadResult ReplayRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds ti
   return r;
 }
 
-std::string ReplayRgbdSource::name() const { return "replay:" + recording_->dir().string(); }
+std::string ReplayRgbdSource::name() const {
+  return "replay:" + recording_->dir().string();
+}
 
 ReplayFisheyeSource::ReplayFisheyeSource(std::shared_ptr<const Recording> recording,
                                          PlaybackOptions options,

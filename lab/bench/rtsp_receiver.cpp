@@ -1,9 +1,7 @@
 #include "lab/bench/rtsp_receiver.hpp"
 
 #include <gst/app/gstappsink.h>
-#include <gst/video/video.h>
 
-#include <cstring>
 #include <memory>
 #include <stdexcept>
 
@@ -61,19 +59,7 @@ std::optional<ReceivedFrame> RtspReceiver::next(std::chrono::milliseconds timeou
   }
   ReceivedFrame out;
   out.decoded_ns = monotonic_now_ns();  // before the copy below, which is the bench's own
-  GstVideoInfo info;
-  if (!gst_video_info_from_caps(&info, gst_sample_get_caps(sample.get())))
-    throw std::runtime_error("rtsp receiver: a sample without video caps");
-  GstVideoFrame frame;
-  if (!gst_video_frame_map(&frame, &info, gst_sample_get_buffer(sample.get()), GST_MAP_READ))
-    throw std::runtime_error("rtsp receiver: cannot map a decoded frame");
-  out.image = ImageRGB8(GST_VIDEO_INFO_WIDTH(&info), GST_VIDEO_INFO_HEIGHT(&info));
-  const auto* data = static_cast<const std::uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, 0));
-  const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&frame, 0);
-  for (int y = 0; y < out.image.height(); ++y)
-    std::memcpy(out.image.row(y), data + static_cast<std::ptrdiff_t>(y) * stride,
-                out.image.row_elements());
-  gst_video_frame_unmap(&frame);
+  out.image = gst::rgb_image_of(sample.get(), "rtsp receiver");
   return out;
 }
 

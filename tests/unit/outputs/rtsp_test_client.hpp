@@ -4,10 +4,8 @@
 // implementation from the x264 that encoded the stream), videoconvert to RGB, appsink.
 #include <gst/app/gstappsink.h>
 #include <gst/gst.h>
-#include <gst/video/video.h>
 
 #include <chrono>
-#include <cstring>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -61,19 +59,7 @@ class RtspTestClient {
     if (!sample) return std::nullopt;
     DecodedFrame out;
     out.received = std::chrono::steady_clock::now();
-    GstVideoInfo info;
-    if (!gst_video_info_from_caps(&info, gst_sample_get_caps(sample.get())))
-      throw std::runtime_error("test client: a sample without video caps");
-    GstVideoFrame frame;
-    if (!gst_video_frame_map(&frame, &info, gst_sample_get_buffer(sample.get()), GST_MAP_READ))
-      throw std::runtime_error("test client: cannot map a decoded frame");
-    out.image = ImageRGB8(GST_VIDEO_INFO_WIDTH(&info), GST_VIDEO_INFO_HEIGHT(&info));
-    const auto* data = static_cast<const std::uint8_t*>(GST_VIDEO_FRAME_PLANE_DATA(&frame, 0));
-    const int stride = GST_VIDEO_FRAME_PLANE_STRIDE(&frame, 0);
-    for (int y = 0; y < out.image.height(); ++y)
-      std::memcpy(out.image.row(y), data + static_cast<std::ptrdiff_t>(y) * stride,
-                  out.image.row_elements());
-    gst_video_frame_unmap(&frame);
+    out.image = gst::rgb_image_of(sample.get(), "test client");
     return out;
   }
 
