@@ -230,7 +230,7 @@ CvfLocalTrace cvf_local_reference(const ImageRGB8& colour, const DepthImage& sen
     throw std::invalid_argument("cvf_local_reference: colour and depth sizes differ");
   // Wide holes are near occluders (hole_core_reference.hpp); every step below sees them so.
   const DepthImage real_depth_mm =
-      fill_hole_cores_reference(sensor_depth_mm, hole_core_radius(params.hole_core_px, w));
+      fill_hole_cores_reference(sensor_depth_mm, hole_core_radius(params.hole_core_px, w), &colour);
   const CvfParams& p = params.cvf;
   CvfLocalTrace t;
   t.categories = categorise_reference(real_depth_mm, virtual_depth_mm, p.categorise);

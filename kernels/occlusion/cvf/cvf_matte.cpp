@@ -161,8 +161,8 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   judged_depth_ = nullptr;
   cores_run_ = hole_cores_ && in.width() > 0;
   if (cores_run_) {
-    inputs.real_depth_mm =
-        &hole_cores_->run(*in.real_depth_mm, hole_core_radius(params_.hole_core_px, in.width()));
+    inputs.real_depth_mm = &hole_cores_->run(
+        *in.real_depth_mm, hole_core_radius(params_.hole_core_px, in.width()), in.colour);
     stage_done("hole cores");
   }
   if (layout_ == CvfLayout::Tiles) {

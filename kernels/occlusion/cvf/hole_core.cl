@@ -10,6 +10,13 @@
 // then took both passes from 0.78-0.80 to 0.42-0.45 ms in one run at load 11; work-groups of
 // one work-item (hole_core.cpp) from 0.59-0.68 to 0.33-0.52 ms, quiet.
 
+// A hole of a far surface's colour (hole_core_reference.hpp far_hole_colour(); WHITE_MIN and
+// BLACK_MAX are -D options) is no core candidate.
+inline int far_hole_colour(__global const uchar* c) {
+  return (c[0] >= WHITE_MIN && c[1] >= WHITE_MIN && c[2] >= WHITE_MIN) ||
+         (c[0] <= BLACK_MAX && c[1] <= BLACK_MAX && c[2] <= BLACK_MAX);
+}
+
 // The rule of both passes: n of the window's span pixels hit, all of them (need_all) or any.
 inline int window_rule(int n, int span, int need_all) {
   return need_all ? n == span : n > 0;
@@ -35,13 +42,19 @@ inline ulong bits_down(const ulong* b, int words, int i, int s) {
 
 // The sliding count along one row: rows[x] = 1 where [x - r, x + r] (clipped) holds only
 // `value` (need_all) or at least one `value` (else).
-inline void hole_core_row_sliding(__global const ushort* in, __global uchar* out, int w, int r,
-                                  ushort value, int need_all) {
+inline int counts_as(__global const ushort* in, __global const uchar* rgb, int use_colour, int x,
+                     ushort value) {
+  return in[x] == value && !(use_colour && far_hole_colour(rgb + 3 * x));
+}
+
+inline void hole_core_row_sliding(__global const ushort* in, __global const uchar* rgb,
+                                  int use_colour, __global uchar* out, int w, int r, ushort value,
+                                  int need_all) {
   int n = 0;  // pixels of `value` in [x - r, x + r] clipped
-  for (int k = 0; k < min(r, w); ++k) n += in[k] == value;
+  for (int k = 0; k < min(r, w); ++k) n += counts_as(in, rgb, use_colour, k, value);
   for (int x = 0; x < w; ++x) {
-    if (x + r < w) n += in[x + r] == value;
-    if (x - r - 1 >= 0) n -= in[x - r - 1] == value;
+    if (x + r < w) n += counts_as(in, rgb, use_colour, x + r, value);
+    if (x - r - 1 >= 0) n -= counts_as(in, rgb, use_colour, x - r - 1, value);
     const int span = min(w - 1, x + r) - max(0, x - r) + 1;
     out[x] = window_rule(n, span, need_all);
   }
@@ -55,17 +68,21 @@ inline void hole_core_row_sliding(__global const ushort* in, __global uchar* out
 // load 11): with the sliding count along the rows p50 0.78-0.80 ms, with the bit sets
 // 0.42-0.45 ms; in `bench pipeline`'s PoCL profile the row pass had been the fifth-largest
 // kernel, above the CVF classifier.
+// With use_colour (the cores' pass), a pixel of `value` whose colour is a far surface's counts
+// as not `value`: the bits are then built a pixel at a time.
 __kernel void hole_core_rows(__global const ushort* depth, __global uchar* rows, int w, int h,
-                             int r, ushort value, int need_all) {
+                             int r, ushort value, int need_all, __global const uchar* colour,
+                             int use_colour) {
   const int y = get_global_id(0);
   if (y >= h) return;
   __global const ushort* in = depth + y * w;
+  __global const uchar* rgb = colour + 3 * y * w;
   __global uchar* out = rows + y * w;
   // The bit of pixel x is x + r: the steps' partial sums reach r either way, so a pixel's
   // bit must be able to leave the row by r and come back.
   const int row_words = (w + 63) >> 6, words = (w + 2 * r + 63) >> 6;
   if (words > ROW_WORDS) {
-    hole_core_row_sliding(in, out, w, r, value, need_all);
+    hole_core_row_sliding(in, rgb, use_colour, out, w, r, value, need_all);
     return;
   }
   ulong a[ROW_WORDS], b[ROW_WORDS];
@@ -76,7 +93,7 @@ __kernel void hole_core_rows(__global const ushort* depth, __global uchar* rows,
     for (int c = 0; c < 4; ++c) {
       const int x0 = 64 * i + 16 * c;
       uint chunk = 0;
-      if (x0 + 16 <= w) {
+      if (x0 + 16 <= w && !use_colour) {
         const short16 hit = as_short16(vload16(0, in + x0) == (ushort16)(value));
         const ushort16 m = as_ushort16(need_all ? ~hit : hit) & lane_bit;
         const ushort8 m8 = m.lo + m.hi;
@@ -84,8 +101,11 @@ __kernel void hole_core_rows(__global const ushort* depth, __global uchar* rows,
         const ushort2 m2 = m4.lo + m4.hi;
         chunk = (uint)(m2.x + m2.y);
       } else {
-        for (int k = 0; k < 16 && x0 + k < w; ++k)
-          chunk |= (uint)((in[x0 + k] == value) != need_all) << k;
+        for (int k = 0; k < 16 && x0 + k < w; ++k) {
+          const int x = x0 + k;
+          const int is_value = in[x] == value && !(use_colour && far_hole_colour(rgb + 3 * x));
+          chunk |= (uint)(is_value != need_all) << k;
+        }
       }
       word |= (ulong)chunk << (16 * c);
     }

@@ -9,13 +9,16 @@
 namespace probeless::occlusion {
 
 HoleCoreFill::HoleCoreFill(ComputeContext& ctx) : ctx_(ctx) {
-  const std::string options = "-DNEAR_MM=" + std::to_string(kNearHoleDepthMm);
+  const std::string options = "-DNEAR_MM=" + std::to_string(kNearHoleDepthMm) +
+                              " -DWHITE_MIN=" + std::to_string(kFarHoleWhiteMin) +
+                              " -DBLACK_MAX=" + std::to_string(kFarHoleBlackMax);
   rows_ = ctx.kernel("hole_core", cl_source::hole_core, options, "hole_core_rows");
   fill_ = ctx.kernel("hole_core", cl_source::hole_core, options, "hole_core_fill");
 }
 
 void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::uint16_t value,
-                               bool need_all, DeviceImage<std::uint16_t, 1>& out, int radius) {
+                               bool need_all, DeviceImage<std::uint16_t, 1>& out, int radius,
+                               const DeviceImage<std::uint8_t, 3>* colour) {
   const int w = depth.width(), h = depth.height();
   row_hits_.resize(ctx_.context(), w, h);
   out.resize(ctx_.context(), w, h);
@@ -28,6 +31,9 @@ void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::
   rows_.setArg(a++, radius);
   rows_.setArg(a++, static_cast<cl_ushort>(value));
   rows_.setArg(a++, need_all ? 1 : 0);
+  // Without a colour image the kernel never reads it; the depth buffer stands in for it.
+  rows_.setArg(a++, colour ? colour->buffer() : depth.buffer());
+  rows_.setArg(a++, colour ? 1 : 0);
   // Work-groups of one work-item: PoCL would otherwise put all rows (or all column groups)
   // into one work-group, which runs on one core while the other waits.
   ctx_.queue().enqueueNDRangeKernel(rows_, ::cl::NullRange, ::cl::NDRange(std::size_t(h)),
@@ -46,16 +52,19 @@ void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::
 }
 
 const DeviceImage<std::uint16_t, 1>& HoleCoreFill::run(const DeviceImage<std::uint16_t, 1>& depth,
-                                                       int radius) {
+                                                       int radius,
+                                                       const DeviceImage<std::uint8_t, 3>* colour) {
   if (radius < 1) throw std::invalid_argument("hole core: radius must be >= 1");
+  if (colour && !colour->same_size(depth))
+    throw std::invalid_argument("hole core: colour and depth sizes differ");
   radius_ = radius;
-  window_pass(depth, 0, true, filled_, radius);
+  window_pass(depth, 0, true, filled_, radius, colour);
   return filled_;
 }
 
 const DeviceImage<std::uint16_t, 1>& HoleCoreFill::mark_near_occluders() {
   if (radius_ < 1) throw std::logic_error("hole core: mark_near_occluders() before run()");
-  window_pass(filled_, kNearHoleDepthMm, false, marked_, radius_);
+  window_pass(filled_, kNearHoleDepthMm, false, marked_, radius_, nullptr);
   return marked_;
 }
 

@@ -12,7 +12,10 @@ class HoleCoreFill {
   explicit HoleCoreFill(ComputeContext& ctx);
   // The filled copy of `depth` for a window radius >= 1 px (valid until the next call; else
   // std::invalid_argument); enqueues and does not wait.
-  const DeviceImage<std::uint16_t, 1>& run(const DeviceImage<std::uint16_t, 1>& depth, int radius);
+  // With `colour` (same size), holes of a far surface's colour are no core candidates
+  // (far_hole_colour(), hole_core_reference.hpp).
+  const DeviceImage<std::uint16_t, 1>& run(const DeviceImage<std::uint16_t, 1>& depth, int radius,
+                                           const DeviceImage<std::uint8_t, 3>* colour = nullptr);
   // The last run()'s filled depth with the holes around each core marked too
   // (mark_near_occluders_reference()); valid until the next call.
   const DeviceImage<std::uint16_t, 1>& mark_near_occluders();
@@ -21,7 +24,8 @@ class HoleCoreFill {
   // out = NEAR where the window of `depth` holds only (need_all) or some `value` and depth
   // is unknown or NEAR there, else depth.
   void window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::uint16_t value, bool need_all,
-                   DeviceImage<std::uint16_t, 1>& out, int radius);
+                   DeviceImage<std::uint16_t, 1>& out, int radius,
+                   const DeviceImage<std::uint8_t, 3>* colour);
 
   ComputeContext& ctx_;
   ::cl::Kernel rows_, fill_;

@@ -16,7 +16,9 @@
 // the local prior as any process pixel is. Measured and chosen in docs/occlusion.md.
 //
 // Limit: a large surface the sensor cannot measure BEHIND the object (black, specular, beyond
-// range, a window in sunlight) is wider than r too and hides the object the same way.
+// range, a window in sunlight) is wider than r too and hides the object the same way. Holes of
+// a sunlit window's or a black screen's colour (far_hole_colour()) are therefore no core
+// candidates when the colour frame is given; that halves the damage on the sim, not more.
 #include <cstdint>
 
 #include "core/image.hpp"
@@ -31,14 +33,28 @@ inline constexpr std::uint16_t kNearHoleDepthMm = 1;
 // does too. 0 when either is <= 0, else >= 1.
 int hole_core_radius(int radius_at_640, int width);
 
+// The colours of surfaces the sensor cannot measure that are no near occluder: a sunlit
+// window (every channel >= kFarHoleWhiteMin) and a black screen (every channel <=
+// kFarHoleBlackMax). In the sim's room 97 % of the orbit's core pixels are one or the other
+// and none of the near hand's (docs/occlusion.md "Seen in the demo room itself").
+inline constexpr int kFarHoleWhiteMin = 235;
+inline constexpr int kFarHoleBlackMax = 45;
+inline bool far_hole_colour(int r, int g, int b) {
+  return (r >= kFarHoleWhiteMin && g >= kFarHoleWhiteMin && b >= kFarHoleWhiteMin) ||
+         (r <= kFarHoleBlackMax && g <= kFarHoleBlackMax && b <= kFarHoleBlackMax);
+}
+
 // `depth` with every pixel whose clipped (2r+1)^2 window holds only zeros set to
-// kNearHoleDepthMm; r <= 0 returns `depth` unchanged.
-DepthImage fill_hole_cores_reference(const DepthImage& depth, int radius);
+// kNearHoleDepthMm; r <= 0 returns `depth` unchanged. With `colour` (same size), a zero whose
+// colour is far_hole_colour() does not count as a hole for the window.
+DepthImage fill_hole_cores_reference(const DepthImage& depth, int radius,
+                                     const ImageRGB8* colour = nullptr);
 
 // fill_hole_cores_reference(), then every hole with a core in its clipped (2r+1)^2 window
 // marked kNearHoleDepthMm as well: the whole near occluder (core and rim), for the stages after
 // the matte that must not mistake its rim for a flicker of the sensor (the temporal
 // stabiliser). CVF itself judges the rim by colour, so it takes the cores only.
-DepthImage mark_near_occluders_reference(const DepthImage& depth, int radius);
+DepthImage mark_near_occluders_reference(const DepthImage& depth, int radius,
+                                         const ImageRGB8* colour = nullptr);
 
 }  // namespace probeless::occlusion

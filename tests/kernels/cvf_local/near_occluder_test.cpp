@@ -276,6 +276,54 @@ TEST(HoleCore, DeviceEqualsReferenceAtWideRadiiAndRows) {
   }
 }
 
+// A sunlit window and a black screen are wide holes too (the sim's room has both): with the
+// colour frame, holes of those colours are no core candidates, while a skin-coloured hole of
+// the same size still is; the device equals the reference with the colour, on the bit sets and
+// on the sliding count of rows too wide for them.
+TEST(HoleCore, WindowsAndBlackScreensAreNoCores) {
+  auto& ctx = cl_context();
+  for (const int w : {240, 4200}) {
+    const int h = 60;
+    DepthImage d(w, h);
+    ImageRGB8 c(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        d.at(x, y) = 1500;
+        const std::uint8_t wall[3] = {150, 140, 120};
+        for (int k = 0; k < 3; ++k) c.at(x, y, k) = wall[k];
+      }
+    // Three 50x50 holes: white (a window), black (a screen), skin (a hand without depth).
+    const std::uint8_t colours[3][3] = {{250, 252, 255}, {20, 22, 30}, {205, 150, 120}};
+    for (int k = 0; k < 3; ++k)
+      for (int y = 5; y < 55; ++y)
+        for (int x = 10 + 70 * k; x < 60 + 70 * k; ++x) {
+          d.at(x, y) = 0;
+          for (int ch = 0; ch < 3; ++ch) c.at(x, y, ch) = colours[k][ch];
+        }
+    const int r = 10;
+    const DepthImage want = fill_hole_cores_reference(d, r, &c);
+    auto cores_in = [&](const DepthImage& img, int k) {
+      int n = 0;
+      for (int y = 0; y < h; ++y)
+        for (int x = 10 + 70 * k; x < 60 + 70 * k; ++x) n += img.at(x, y) == kNearHoleDepthMm;
+      return n;
+    };
+    EXPECT_EQ(cores_in(want, 0), 0) << "white, w " << w;
+    EXPECT_EQ(cores_in(want, 1), 0) << "black, w " << w;
+    EXPECT_GT(cores_in(want, 2), 100) << "skin, w " << w;
+    EXPECT_GT(cores_in(fill_hole_cores_reference(d, r), 0), 100) << "without colour, w " << w;
+    const DeviceImage<std::uint16_t, 1> depth_dev(ctx, d);
+    const DeviceImage<std::uint8_t, 3> colour_dev(ctx, c);
+    HoleCoreFill fill(ctx);
+    const auto got = fill.run(depth_dev, r, &colour_dev).download(ctx.queue());
+    EXPECT_TRUE(std::ranges::equal(got.elements(), want.elements())) << "w " << w;
+    const auto marked = fill.mark_near_occluders().download(ctx.queue());
+    EXPECT_TRUE(
+        std::ranges::equal(marked.elements(), mark_near_occluders_reference(d, r, &c).elements()))
+        << "marked, w " << w;
+  }
+}
+
 TEST(HoleCore, HandWithoutDepthWithinTwiceWithDepth) {
   ASSERT_GT(CvfLocalParams{}.hole_core_px, 0) << "the shipped cvf takes hole cores";
   for (const bool mug : {true, false}) {
