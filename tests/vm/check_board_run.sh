@@ -97,7 +97,9 @@ BOARD
     status=$(curl -sf --max-time 5 http://127.0.0.1:8080/status || echo '{}')
     # Frames processed with the RGB-D source streaming, not only NO SIGNAL frames out: the
     # Dummy device can stall at start under TCG beside a loaded host and is then reopened.
-    jq -e '.frames.processed >= 3 and .frames.fisheye_in >= 3 and
+    # And out: the output thread counts a frame after processing does, so right when the
+    # third is processed the second may be the last out (a CI run saw processed 3, out 2).
+    jq -e '.frames.processed >= 3 and .frames.out >= 3 and .frames.fisheye_in >= 3 and
       .sources.rgbd.state == "streaming"' <<<"$status" >/dev/null && break
     kill -0 $pid 2>/dev/null || break
     ((i % 15)) || say "$(jq -c '{state, frames}' <<<"$status") $(tail -1 "$work/run.log")"
