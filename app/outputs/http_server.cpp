@@ -433,15 +433,15 @@ void HttpServer::Impl::offer(StreamClient& client) {
   if (!current) {
     // ustreamer streams its blank frame until the source sends one: a viewer that connects
     // before the first frame sees NO SIGNAL (X-UStreamer-Online: false), not a hung request.
+    if (client.frames_sent > 0 || !make_placeholder()) return;
     const TimestampNs now = monotonic_now_ns();
-    if (client.frames_sent == 0 && make_placeholder())
-      send_part(client, placeholder,
-                {.length = placeholder->size(),
-                 .capture_ns = now,
-                 .capture_wall_ns = wall_clock_ns(now),
-                 .online = false,
-                 .size = shown_size()},
-                0);
+    send_part(client, placeholder,
+              {.length = placeholder->size(),
+               .capture_ns = now,
+               .capture_wall_ns = wall_clock_ns(now),
+               .online = false,
+               .size = shown_size()},
+              0);
     return;
   }
   if (client.last_sent >= current->sequence) return;

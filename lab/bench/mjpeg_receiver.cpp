@@ -11,11 +11,15 @@
 #include <cstring>
 #include <span>
 #include <stdexcept>
+#include <string>
+
+#include "app/outputs/http_compat.hpp"
 
 namespace probeless::lab {
 namespace {
 
-constexpr std::string_view kBoundary = "--boundarydonotcross";
+// The server's own boundary (app/outputs/http_compat.hpp), with the "--" a part starts with.
+const std::string kBoundary = std::string("--") + kStreamBoundary;
 // A part larger than this is not a 640x480..4K frame at any quality: the stream is broken.
 constexpr std::size_t kMaxPartBytes = 16u << 20;
 

@@ -22,6 +22,7 @@
 #include <thread>
 #include <variant>
 
+#include "base/stage_stats.hpp"
 #include "core/capture_stamp.hpp"
 #include "lab/bench/mjpeg_receiver.hpp"
 #include "lab/bench/rtsp_receiver.hpp"
@@ -87,19 +88,12 @@ std::vector<LatencyPath> latency_paths() {
   };
 }
 
-// Nearest-rank percentile of sorted values.
-double percentile(const std::vector<double>& sorted, double p) {
-  const auto rank = static_cast<std::size_t>(std::ceil(p / 100.0 * sorted.size()));
-  return sorted[std::clamp<std::size_t>(rank, 1, sorted.size()) - 1];
-}
-
-nlohmann::json summary(std::vector<double> ms) {
+// p50/p99 by nearest rank, as every bench reports them (base/stage_stats.hpp summarize()).
+nlohmann::json summary(const std::vector<double>& ms) {
   if (ms.empty()) return nullptr;
-  std::sort(ms.begin(), ms.end());
-  return {{"p50_ms", percentile(ms, 50)},
-          {"p99_ms", percentile(ms, 99)},
-          {"min_ms", ms.front()},
-          {"max_ms", ms.back()}};
+  const TimingSummary s = summarize(ms);
+  const auto [lo, hi] = std::minmax_element(ms.begin(), ms.end());
+  return {{"p50_ms", s.p50_ms}, {"p99_ms", s.p99_ms}, {"min_ms", *lo}, {"max_ms", *hi}};
 }
 
 // Receives for `warmup_s` once the first stamped frame is in (the RTSP media starts at a

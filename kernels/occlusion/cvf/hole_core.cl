@@ -40,13 +40,15 @@ inline ulong bits_down(const ulong* b, int words, int i, int s) {
   return k ? (lo >> k) | (hi << (64 - k)) : lo;
 }
 
-// The sliding count along one row: rows[x] = 1 where [x - r, x + r] (clipped) holds only
-// `value` (need_all) or at least one `value` (else).
+// Pixel x counts as `value`: with use_colour (the cores' pass), not where its colour is a far
+// surface's.
 inline int counts_as(__global const ushort* in, __global const uchar* rgb, int use_colour, int x,
                      ushort value) {
   return in[x] == value && !(use_colour && far_hole_colour(rgb + 3 * x));
 }
 
+// The sliding count along one row: rows[x] = 1 where [x - r, x + r] (clipped) holds only
+// `value` (need_all) or at least one `value` (else).
 inline void hole_core_row_sliding(__global const ushort* in, __global const uchar* rgb,
                                   int use_colour, __global uchar* out, int w, int r, ushort value,
                                   int need_all) {
@@ -63,11 +65,8 @@ inline void hole_core_row_sliding(__global const ushort* in, __global const ucha
 // One work-item per row, the same rule as a dilation of a bit set: the pixels that break it
 // (each pixel that is not `value` for need_all, each `value` pixel else) dilated by r, in
 // steps {-s, 0, s} that double the covered span (1, 3, 9, 7 for r = 20); bits past the row's
-// end are 0, which clips the windows at the frame. Measured at 640x480, r = 20, rows and
-// columns together (HoleCore.DISABLED_CostVga, old and new binaries interleaved, 3 + 3 runs at
-// load 11): with the sliding count along the rows p50 0.78-0.80 ms, with the bit sets
-// 0.42-0.45 ms; in `bench pipeline`'s PoCL profile the row pass had been the fifth-largest
-// kernel, above the CVF classifier.
+// end are 0, which clips the windows at the frame (measured: the file's head; in `bench
+// pipeline`'s PoCL profile the sliding row pass had been the fifth-largest kernel).
 // With use_colour (the cores' pass), a pixel of `value` whose colour is a far surface's counts
 // as not `value`: the bits are then built a pixel at a time.
 __kernel void hole_core_rows(__global const ushort* depth, __global uchar* rows, int w, int h,
@@ -101,11 +100,8 @@ __kernel void hole_core_rows(__global const ushort* depth, __global uchar* rows,
         const ushort2 m2 = m4.lo + m4.hi;
         chunk = (uint)(m2.x + m2.y);
       } else {
-        for (int k = 0; k < 16 && x0 + k < w; ++k) {
-          const int x = x0 + k;
-          const int is_value = in[x] == value && !(use_colour && far_hole_colour(rgb + 3 * x));
-          chunk |= (uint)(is_value != need_all) << k;
-        }
+        for (int k = 0; k < 16 && x0 + k < w; ++k)
+          chunk |= (uint)(counts_as(in, rgb, use_colour, x0 + k, value) != need_all) << k;
       }
       word |= (ulong)chunk << (16 * c);
     }
