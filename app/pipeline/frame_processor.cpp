@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "app/outputs/banner.hpp"
 #include "app/pipeline/scene_objects.hpp"
@@ -34,6 +35,12 @@ occlusion::MethodParams occlusion_params(const ServiceConfig& config) {
   return params;
 }
 
+BeyondRangeRule beyond_range_rule(const ServiceConfig& config) {
+  BeyondRangeRule rule;
+  rule.far_mm = static_cast<std::uint16_t>(std::lround(config.occlusion_beyond_range_m * 1000.0));
+  return rule;
+}
+
 FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration& calibration,
                                bool keep_matte, LightSource light,
                                std::shared_ptr<PoseHistory> poses)
@@ -42,7 +49,7 @@ FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration
       ctx_(make_context(config)),
       render_(make_scene_objects(config.objects, config.ground, default_prt_cache_dir()),
               calibration.rgb.intrinsics(), std::move(light)),
-      upload_(*ctx_, calibration.rgb),
+      upload_(*ctx_, calibration.rgb, beyond_range_rule(config)),
       occlusion_(*ctx_,
                  occlusion::make_method(*ctx_, config.occlusion_method, occlusion_params(config)),
                  config.occlusion_stabilise, calibration.rgb.intrinsics()),

@@ -21,6 +21,8 @@ namespace probeless {
 
 // The occlusion method's parameters from [occlusion] (its method's defaults otherwise).
 occlusion::MethodParams occlusion_params(const ServiceConfig& config);
+// The sensor's beyond-range holes from [occlusion] beyond_range_m (0 turns the rule off).
+BeyondRangeRule beyond_range_rule(const ServiceConfig& config);
 
 class FrameProcessor {
  public:

@@ -45,8 +45,9 @@ VirtualLayer RenderStage::process(const Pose& T_world_camera) {
   return {hdr, &view_.depth_mm};
 }
 
-UploadStage::UploadStage(ComputeContext& ctx, const PinholeCamera& rgb)
-    : ctx_(ctx), width_(rgb.width()), height_(rgb.height()) {
+UploadStage::UploadStage(ComputeContext& ctx, const PinholeCamera& rgb,
+                         BeyondRangeRule beyond_range)
+    : ctx_(ctx), width_(rgb.width()), height_(rgb.height()), beyond_range_(beyond_range) {
   if (const auto map = build_undistort_map(rgb)) undistort_.emplace(ctx, *map);
 }
 
@@ -72,14 +73,21 @@ void UploadStage::check_size(const RgbdFrame& frame) const {
 DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& layer) {
   auto& q = ctx_.queue();
   check_size(frame);
+  const DepthImage* depth = &frame.depth;
+  if (beyond_range_.far_mm > 0) {
+    // Kept until the next frame: the upload below does not block.
+    judged_depth_ = frame.depth;
+    fill_beyond_range_holes(judged_depth_, beyond_range_, beyond_range_scratch_);
+    depth = &judged_depth_;
+  }
   if (undistort_) {
     raw_colour_.upload(q, frame.colour, false);
-    raw_depth_.upload(q, frame.depth, false);
+    raw_depth_.upload(q, *depth, false);
     undistort_->colour(raw_colour_, colour_);
     undistort_->depth(raw_depth_, real_depth_);
   } else {
     colour_.upload(q, frame.colour, false);
-    real_depth_.upload(q, frame.depth, false);
+    real_depth_.upload(q, *depth, false);
   }
   DeviceFrame out{&colour_, &real_depth_, {}, &virtual_depth_};
   // The virtual layer is read in place (CL_MEM_USE_HOST_PTR; no copy on PoCL and on boards

@@ -21,6 +21,7 @@
 
 #include "app/pipeline/light_capture.hpp"
 #include "app/render/renderer.hpp"
+#include "core/beyond_range.hpp"
 #include "core/calibration.hpp"
 #include "core/frame.hpp"
 #include "kernels/composite/compositor.hpp"
@@ -103,7 +104,9 @@ class RenderStage {
 // for pixel. Without distortion nothing is remapped: the upload is the copy it always was.
 class UploadStage {
  public:
-  UploadStage(ComputeContext& ctx, const PinholeCamera& rgb);
+  // `beyond_range`: the holes it finds are filled before the upload (core/beyond_range.hpp),
+  // so every occlusion stage sees them far; tracking reads the frame's own depth.
+  UploadStage(ComputeContext& ctx, const PinholeCamera& rgb, BeyondRangeRule beyond_range = {});
   static constexpr const char* name = "upload";
   // Non-blocking writes: `frame` and `layer`'s images must live until the download. A frame
   // whose colour or depth is not the calibration's colour camera size is an
@@ -117,6 +120,9 @@ class UploadStage {
   ComputeContext& ctx_;
   int width_, height_;  // the calibration's colour camera
   std::optional<Undistort> undistort_;
+  BeyondRangeRule beyond_range_;
+  DepthImage judged_depth_;  // the frame's depth with the beyond-range holes filled
+  BeyondRangeScratch beyond_range_scratch_;
   DeviceImageRGB8 raw_colour_;  // as the camera delivered it, when undistorting
   DeviceDepthImage raw_depth_;
   DeviceImageRGB8 colour_;

@@ -127,10 +127,14 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     for (const auto& item : *arr) c.objects.push_back(parse_object(r, *item.as_table()));
   }
   if (auto* t = r.optional_table(root, "occlusion")) {
-    r.only(*t, "[occlusion]", {"method", "stabilise", "near_occluders"});
+    r.only(*t, "[occlusion]", {"method", "stabilise", "near_occluders", "beyond_range_m"});
     r.get(*t, "method", c.occlusion_method);
     r.get(*t, "stabilise", c.occlusion_stabilise);
     r.get(*t, "near_occluders", c.occlusion_near_occluders);
+    r.get(*t, "beyond_range_m", c.occlusion_beyond_range_m);
+    const double far = c.occlusion_beyond_range_m;
+    if (!(far == 0 || (far >= 0.5 && far <= 20)))
+      r.fail(t->get("beyond_range_m"), "beyond_range_m must be 0 (off) or 0.5..20 metres");
   }
   if (auto* t = r.optional_table(root, "tracking")) {
     r.only(*t, "[tracking]",

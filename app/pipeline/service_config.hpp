@@ -14,6 +14,7 @@
 #include "app/outputs/kms_display.hpp"
 #include "app/outputs/rtsp_server.hpp"
 #include "app/world/world_config.hpp"
+#include "core/beyond_range.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
 
 namespace probeless {
@@ -73,9 +74,15 @@ struct ServiceConfig {
   // [occlusion] near_occluders: cvf counts the core of a wide depth hole as an occluder nearer
   // than the sensor's range (a hand at 20 cm; docs/occlusion.md "Occluders the sensor cannot
   // see": on the sim's near hand, MSE 1.9x the same hand with depth instead of 91x). Off for a
-  // scene where the wide holes are far surfaces the sensor cannot measure (black, specular,
-  // beyond range) in front of which virtual objects stand: there the cores would hide them.
+  // scene where the wide holes are far surfaces the sensor cannot measure (black, specular)
+  // that neither the colour gate nor beyond_range_m catches, with virtual objects in front.
   bool occlusion_near_occluders = true;
+  // [occlusion] beyond_range_m: holes whose nearest measured depth is at least this far are
+  // surfaces beyond the sensor's range and get that depth before the matte
+  // (core/beyond_range.hpp; docs/occlusion.md "Beyond the sensor's range": objects in front of
+  // the sim's far wall, MSE x1e3 64.0 -> 4.4). 0.5 m inside a Kinect-class sensor's 4 m; set
+  // it 0.5 m inside your sensor's maximum range, 0 to turn it off.
+  double occlusion_beyond_range_m = BeyondRangeRule{}.far_mm / 1000.0;
   TrackingConfig tracking;
   WorldConfig world;
 

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -25,6 +26,7 @@ struct Options {
   int max_scenes = 0;
   int wide_subsample = 0;  // 0 = the method's default
   int hole_core_px = -1;   // -1 = the shipped default
+  double beyond_range_m = BeyondRangeRule{}.far_mm / 1000.0;
   bool stabilised = false;
   std::string stabiliser;  // W:COLOUR:DEPTH_MM:DEPTH_REL
 };
@@ -68,6 +70,7 @@ void run(const Options& o) {
   // The trimap is exact and no sensor's (docs/occlusion.md).
   if (protocol == "alphamatting") occlusion::use_exact_trimap(opts.settings);
   if (o.hole_core_px >= 0) opts.settings.cvf.hole_core_px = o.hole_core_px;
+  opts.beyond_range.far_mm = static_cast<std::uint16_t>(std::lround(o.beyond_range_m * 1000.0));
   ComputeContext ctx;
   spdlog::info("eval occlusion: {} cases on {}", cases.size(), ctx.describe());
   auto report = eval::evaluate(ctx, cases, opts);
@@ -107,6 +110,12 @@ void add_eval_occlusion_command(CLI::App& eval) {
                   "The shipped CVF's hole-core radius, px (0 = holes are only 'process'; default: "
                   "the shipped value; docs/occlusion.md \"Occluders the sensor cannot see\")")
       ->check(CLI::Range(0, 64));
+  cmd->add_option("--beyond-range-m", o->beyond_range_m,
+                  "Holes whose nearest depth is this far are beyond the sensor's range and filled "
+                  "far before every method, as the service does (0 = off; docs/occlusion.md "
+                  "\"Beyond the sensor's range\")")
+      ->check(CLI::Range(0.0, 20.0))
+      ->capture_default_str();
   cmd->add_flag("--stabilised", o->stabilised,
                 "Also score every method with temporal stabilisation (columns METHOD+stab)");
   cmd->add_option("--stabiliser", o->stabiliser,

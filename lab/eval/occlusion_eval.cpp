@@ -152,9 +152,13 @@ EvalReport evaluate(ComputeContext& ctx, const std::vector<EvalCase>& cases,
     DeviceImageRGB8 colour;
     DeviceDepthImage depth;
     DeviceImageF virt, alpha;
+    DepthImage judged_depth;
+    BeyondRangeScratch scratch;
     for (const auto& f : c.frames) {
       colour.upload(queue, f.colour);
-      depth.upload(queue, f.real_depth_mm);
+      judged_depth = f.real_depth_mm;
+      fill_beyond_range_holes(judged_depth, options.beyond_range, scratch);
+      depth.upload(queue, judged_depth);
       virt.upload(queue, f.virtual_depth_mm);
       if (!f.virtual_colour.empty()) {
         alpha.upload(queue, f.truth);

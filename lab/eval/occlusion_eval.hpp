@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/beyond_range.hpp"
 #include "kernels/occlusion/temporal/matte_stabiliser_params.hpp"
 #include "kernels/runtime/compute_context.hpp"
 #include "lab/eval/eval_case.hpp"
@@ -61,6 +62,9 @@ struct EvalOptions {
   // giving the camera's motion (identity without them).
   bool stabilised = false;
   occlusion::StabiliserParams stabiliser;
+  // The service's pass over the sensor's depth before any method (app/pipeline UploadStage):
+  // beyond-range holes filled far. far_mm 0 gives every method the depth as recorded.
+  BeyondRangeRule beyond_range;
 };
 
 // The name of a method's stabilised variant in the report.

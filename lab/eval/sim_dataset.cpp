@@ -1,5 +1,6 @@
 #include "lab/eval/sim_dataset.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -15,7 +16,40 @@
 
 namespace probeless::eval {
 
-SimProtocolOptions parse_sim_protocol(std::string_view options) {
+namespace {
+
+// Takes the protocol's own `lift=` out of `options` (the rest are the sim's).
+double take_lift(std::string& options) {
+  double lift = 0.0;
+  std::string rest;
+  std::size_t start = 0;
+  while (start <= options.size()) {
+    const std::size_t end = std::min(options.find(',', start), options.size());
+    const std::string item = options.substr(start, end - start);
+    if (item.rfind("lift=", 0) == 0) {
+      std::size_t used = 0;
+      try {
+        lift = std::stod(item.substr(5), &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || used != item.size() - 5 || !(lift >= 0.0 && lift <= 2.0))
+        throw std::invalid_argument("sim option 'lift': metres in 0..2, got '" + item.substr(5) +
+                                    "'");
+    } else if (!item.empty()) {
+      rest += (rest.empty() ? "" : ",") + item;
+    }
+    start = end + 1;
+  }
+  options = rest;
+  return lift;
+}
+
+}  // namespace
+
+SimProtocolOptions parse_sim_protocol(std::string_view options_in) {
+  std::string options(options_in);
+  const double lift = take_lift(options);
   // Later keys win in parse_sim_options: the protocol's defaults first, the caller's after.
   // edge_samples=4: silhouettes are mixed pixels as a camera's are (16 rays), so the matte's
   // truth is fractional there and the composite error has a true foreground to score.
@@ -32,6 +66,7 @@ SimProtocolOptions parse_sim_protocol(std::string_view options) {
   o.sim.realtime = false;  // every frame in order
   o.sim.fisheye_realtime = false;
   o.sim.ground_truth = true;
+  o.lift_m = lift;
   if (o.sim.trajectory == sim::TrajectoryKind::Calibration)
     throw std::invalid_argument("sim protocol: trajectory=calibration has no virtual objects");
   return o;
@@ -79,8 +114,9 @@ std::string case_name(const SimProtocolOptions& o) {
     default:
       break;
   }
-  return std::string("sim/") + traj + (o.sim.near_occluder ? "+near" : "") + "/seed" +
-         std::to_string(o.sim.seed);
+  std::string name = std::string("sim/") + traj + (o.sim.near_occluder ? "+near" : "");
+  if (o.lift_m > 0) name += fmt::format("+lift{:.2f}", o.lift_m);
+  return name + "/seed" + std::to_string(o.sim.seed);
 }
 
 }  // namespace
@@ -110,6 +146,7 @@ std::vector<EvalCase> sim_cases(const SimProtocolOptions& o) {
   const ServiceConfig config;
   std::vector<ObjectConfig> placed = config.objects;
   place_objects(placed, rig.scene);
+  for (ObjectConfig& obj : placed) obj.position->z() += o.lift_m;
   std::vector<render::VirtualObject> objects =
       make_scene_objects(placed, config.ground, default_prt_cache_dir());
   const std::vector<render::VirtualObject> placeholders = placeholder_objects(objects);

@@ -21,12 +21,17 @@ struct SimProtocolOptions {
   // (clean depth); the band is every evaluated pixel within band_px of one.
   double contact_mm = 10.0;
   int band_px = 10;
+  // Metres the virtual objects are raised above where the service puts them (`lift=`, 0..2):
+  // on the orbit, 0.25 m brings them in front of the room's window and TV screen, far surfaces
+  // without depth, which is where the hole cores can wrongly hide an object (docs/occlusion.md
+  // "Occluders the sensor cannot see").
+  double lift_m = 0.0;
 };
 
 // `options`: the part after "sim:" (may be empty): sim options (parse_sim_options) laid over
 // the protocol's defaults trajectory=tabletop, start=1.5, near_occluder=1, realtime=0; its
-// `frames` is the protocol's frame count (default 90). Throws std::invalid_argument naming a
-// bad key.
+// `frames` is the protocol's frame count (default 90); `lift` is the protocol's own. Throws
+// std::invalid_argument naming a bad key.
 SimProtocolOptions parse_sim_protocol(std::string_view options);
 
 // One case, "sim/<trajectory>[+near]", of options.frames frames. Needs EGL (the renderer).

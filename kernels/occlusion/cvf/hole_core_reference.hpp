@@ -18,7 +18,9 @@
 // Limit: a large surface the sensor cannot measure BEHIND the object (black, specular, beyond
 // range, a window in sunlight) is wider than r too and hides the object the same way. Holes of
 // a sunlit window's or a black screen's colour (far_hole_colour()) are therefore no core
-// candidates when the colour frame is given; that halves the damage on the sim, not more.
+// candidates when the colour frame is given, and the holes of walls beyond the sensor's range
+// are filled far before any matte (core/beyond_range.hpp): together they take the lifted
+// objects' MSE on the sim from 92.6e-3 to 4.4e-3 (2.2e-3 without cores).
 #include <cstdint>
 
 #include "core/image.hpp"

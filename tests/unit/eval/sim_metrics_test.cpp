@@ -27,11 +27,18 @@ TEST(SimProtocol, DefaultsAndOverrides) {
   EXPECT_FALSE(o.sim.near_occluder);
   EXPECT_EQ(o.sim.seed, 4u);
   EXPECT_FALSE(o.sim.realtime);
+  EXPECT_EQ(d.lift_m, 0.0);
+  // The protocol's own key, taken out before the sim's parser sees it, wherever it stands.
+  const SimProtocolOptions lifted = parse_sim_protocol("trajectory=orbit,lift=0.25,seed=3");
+  EXPECT_DOUBLE_EQ(lifted.lift_m, 0.25);
+  EXPECT_EQ(lifted.sim.trajectory, sim::TrajectoryKind::Orbit);
+  EXPECT_EQ(lifted.sim.seed, 3u);
 }
 
 TEST(SimProtocol, BadOptionsAreClearErrors) {
-  for (const char* spec : {"frames=1", "frames=100000", "trajectory=calibration", "bogus=1",
-                           "near_occluder=yes please"}) {
+  for (const char* spec :
+       {"frames=1", "frames=100000", "trajectory=calibration", "bogus=1",
+        "near_occluder=yes please", "lift=-0.1", "lift=3", "lift=", "lift=0.2m"}) {
     EXPECT_THROW(parse_sim_protocol(spec), std::invalid_argument) << spec;
   }
   try {

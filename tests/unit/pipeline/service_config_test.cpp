@@ -107,7 +107,6 @@ room_max = [2.5, 3.0, 2.4]
   EXPECT_DOUBLE_EQ(c.light_room_max.z(), 2.4);
 }
 
-// A typo must not fall back silently to a default: the error names the key and its line.
 // The admin's switch for the hole cores (docs/occlusion.md "Occluders the sensor cannot see"):
 // on by default, off gives the shipped CVF without them, and it must be a boolean.
 TEST(ServiceConfig, NearOccludersSwitchesTheHoleCores) {
@@ -122,6 +121,21 @@ TEST(ServiceConfig, NearOccludersSwitchesTheHoleCores) {
   EXPECT_THROW(parse_service_config("[occlusion]\nnear_occluders = \"no\"\n"), ParseError);
 }
 
+// The sensor's range for its beyond-range holes (core/beyond_range.hpp): on by default at
+// the rule's own default, 0 turns it off, and nonsense is an error naming the key.
+TEST(ServiceConfig, BeyondRangeSetsTheFarHoleRule) {
+  EXPECT_EQ(beyond_range_rule(parse_service_config("")).far_mm, BeyondRangeRule{}.far_mm);
+  EXPECT_GT(BeyondRangeRule{}.far_mm, 0);
+  EXPECT_EQ(beyond_range_rule(parse_service_config("[occlusion]\nbeyond_range_m = 7.5\n")).far_mm,
+            7500);
+  EXPECT_EQ(beyond_range_rule(parse_service_config("[occlusion]\nbeyond_range_m = 0\n")).far_mm, 0);
+  for (const char* bad : {"-1", "0.2", "25", "\"far\""})
+    EXPECT_THROW(parse_service_config(std::string("[occlusion]\nbeyond_range_m = ") + bad + "\n"),
+                 ParseError)
+        << bad;
+}
+
+// A typo must not fall back silently to a default: the error names the key and its line.
 TEST(ServiceConfig, UnknownKeyIsAnErrorWithItsLine) {
   try {
     parse_service_config("[http]\nport = 1\nprot = 2\n", "svc.toml");
