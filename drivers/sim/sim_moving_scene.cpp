@@ -29,12 +29,15 @@ const Eigen::Vector3f kBoxAlbedo(0.12f, 0.28f, 0.75f);
 // sweeps many texels). box_slides starts it at the table's front right corner.
 const Vec3 kBoxRest(0.24, 0.56, 0), kBoxStart(0.62, 0.30, 0);
 
-// The hand (as the near hand: fingers r 3.5 cm, palm 4.5 cm, forearm 4 cm) comes in along
-// kHandDir from the left, in front and above, and stops with its fingertips 4.5 cm from the
-// sphere's surface (the sphere: r 10 cm at light_probe_position()).
+// The hand (fingers r 3 cm, palm 4.5 cm, forearm 4 cm, skin as the arm's) comes in along
+// kHandDir from the left, in front and above, its palm and fingers across that direction (a
+// hand about to take the sphere from the side), and stops with the middle of the palm 19 cm
+// from the sphere's centre: 4.5 cm from the surface of the 10 cm sphere at
+// light_probe_position(). Across, it spans ~45 degrees of the sphere's view; end on, a third.
 const Vec3 kHandDir = Vec3(0.85, 0.25, -0.2).normalized();
-const Vec3 kPalmRestOffset(-0.24, -0.08, 0.06);  // from the sphere's centre
-constexpr double kHandTravel = 0.7;              // metres along kHandDir
+const Vec3 kHandAcross = Vec3::UnitZ().cross(kHandDir).normalized();
+constexpr double kHandRestDistance = 0.19;
+constexpr double kHandTravel = 0.7;  // metres along kHandDir
 
 double smoothstep(double u) {
   u = std::clamp(u, 0.0, 1.0);
@@ -51,11 +54,14 @@ MovingBox box_at(const Vec3& centre_xy) {
 }
 
 std::vector<Capsule> hand_at(double reach) {  // reach: 0 at the start, 1 at rest
-  const Vec3 palm = light_probe_position() + kPalmRestOffset - (1 - reach) * kHandTravel * kHandDir;
-  const Vec3 fingers = palm + 0.08 * kHandDir, wrist = palm - 0.07 * kHandDir;
-  const Vec3 elbow = palm - 0.34 * kHandDir + Vec3(0, 0, 0.08);
+  const Vec3 middle =
+      light_probe_position() - (kHandRestDistance + (1 - reach) * kHandTravel) * kHandDir;
+  const Vec3 wrist = middle - 0.08 * kHandAcross, knuckles = middle + 0.02 * kHandAcross;
+  const Vec3 tips = middle + 0.09 * kHandAcross;
+  const Vec3 elbow = wrist - 0.28 * kHandDir + Vec3(0, 0, 0.06);
   const auto f = [](const Vec3& p) -> Eigen::Vector3f { return p.cast<float>(); };
-  return {{f(fingers), f(palm), 0.035f}, {f(palm), f(wrist), 0.045f}, {f(wrist), f(elbow), 0.04f}};
+  return {
+      {f(tips), f(knuckles), 0.03f}, {f(knuckles), f(wrist), 0.045f}, {f(wrist), f(elbow), 0.04f}};
 }
 
 constexpr std::array<SceneEvent, 1> kSlideEvents{

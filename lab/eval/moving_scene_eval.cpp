@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -195,12 +196,16 @@ SceneMetrics judge(const MovingSceneEvalOptions& o, const sim::MovingSceneSpec& 
           r.samples.push_back(
               {s.t_s, change_presence(s.captured, ref->captured, before, after, mask)});
     r.response_s = settle_time(r.samples, ev.before_t_s, ev.t_s, kPresenceThreshold);
+    // The sphere half a second after the event, when a method that follows has followed.
+    const auto shown = std::find_if(snaps.begin(), snaps.end(),
+                                    [&](const Snapshot& s) { return s.t_s >= ev.t_s + 0.5; });
+    if (!o.dump_dir.empty() && shown != snaps.end())
+      write_panels(fmt::format("{}/{}_{}_{}.png", o.dump_dir, spec.name, to_string(source),
+                               ev.kind == sim::SceneEvent::Kind::Arrival ? "arrival" : "removal"),
+                   shown->captured, shown->truth, shown->sphere, true);
     (ev.kind == sim::SceneEvent::Kind::Arrival ? m.arrival_s : m.removal_s) = r.response_s;
     m.events.push_back(std::move(r));
   }
-  if (!o.dump_dir.empty() && !snaps.empty())
-    write_panels(fmt::format("{}/{}_{}.png", o.dump_dir, spec.name, to_string(source)),
-                 snaps.back().captured, snaps.back().truth, snaps.back().sphere, true);
   return m;
 }
 

@@ -38,7 +38,9 @@ struct MovingSceneEvalOptions {
   ServiceConfig config;  // objects, [light]; its source must be the sim
   int truth_supersample = 2;
   int sphere_image_size = 256;
-  std::string dump_dir;  // non-empty: DIR/<scene>_<source>.png, the sphere at the last snapshot
+  // Non-empty: DIR/<scene>_<source>_<arrival|removal>.png, the sphere (captured | truth |
+  // difference x4) at the first snapshot 0.5 s or more after each event.
+  std::string dump_dir;
 };
 
 // One event's response: presence is how much of the true change over the event's directions
