@@ -50,6 +50,7 @@ nlohmann::json events_json(const eval::SceneMetrics& m) {
                       {"t_s", e.event.t_s},
                       {"before_t_s", e.event.before_t_s},
                       {"mask_pixels", e.mask_pixels},
+                      {"before_position", e.before_position},
                       {"response_s", seconds_or_null(e.response_s)},
                       {"samples", samples}});
   }
@@ -74,8 +75,9 @@ void print(const eval::SceneMetrics& m, const std::string& label) {
           s.t_s, s.near_object_pixels, s.near_object_rel_rmse, s.captured_luminance,
           s.truth_luminance);
   for (const auto& e : m.events) {
-    std::cout << fmt::format("    {} at {:.2f} s ({} px):", kind_name(e.event.kind), e.event.t_s,
-                             e.mask_pixels);
+    std::cout << fmt::format(
+        "    {} at {:.2f} s ({} px, stood at {:+.2f} before); presence:", kind_name(e.event.kind),
+        e.event.t_s, e.mask_pixels, e.before_position);
     for (const auto& s : e.samples) std::cout << fmt::format(" {:.2f}:{:+.2f}", s.t_s, s.presence);
     std::cout << "\n";
   }

@@ -190,6 +190,7 @@ SceneMetrics judge(const MovingSceneEvalOptions& o, const sim::MovingSceneSpec& 
     const Snapshot* ref = nullptr;
     for (const Snapshot& s : snaps)
       if (s.t_s <= ev.before_t_s) ref = &s;
+    if (ref) r.before_position = change_presence(ref->captured, before, before, after, mask);
     if (ref)
       for (const Snapshot& s : snaps)
         if (s.t_s > ref->t_s)

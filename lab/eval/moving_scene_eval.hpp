@@ -53,6 +53,10 @@ struct PresenceSample {
 struct EventResult {
   sim::SceneEvent event;
   int mask_pixels = 0;  // sphere pixels that see the object before or after the change
+  // Where the captured reflection stood before the change on the same scale (0: the truth
+  // before, 1: the truth after): a removal's near 1 says the object was hardly ever shown, so
+  // the reflection had little of it to lose (presence is then small however fast it went).
+  double before_position = 0;
   std::vector<PresenceSample> samples;
   std::optional<double> response_s;  // empty: the reflection had not followed by the end
 };
