@@ -149,6 +149,11 @@ void SimRenderer::render(const Pose& T_world_camera, int lamp_state, const Occlu
       add({PrimRef::Kind::Capsule, static_cast<std::uint8_t>(i)}, c.a.cwiseMin(c.b) - r,
           c.a.cwiseMax(c.b) + r, 0.5f * (c.a + c.b), 0.5f * (c.b - c.a).norm() + c.radius);
     }
+    for (std::size_t j = 0; j < occluder->boxes.size(); ++j) {
+      const MovingBox& b = occluder->boxes[j];
+      add({PrimRef::Kind::OccluderBox, static_cast<std::uint8_t>(j)}, b.lo, b.hi,
+          0.5f * (b.lo + b.hi), 0.5f * (b.hi - b.lo).norm());
+    }
   }
 
   std::vector<int> to_cast;

@@ -13,6 +13,7 @@
 #include "core/camera/ocam.hpp"
 #include "core/depth_noise.hpp"
 #include "drivers/sim/sim_calibration_views.hpp"
+#include "drivers/sim/sim_moving_scene.hpp"
 #include "drivers/sim/sim_sources.hpp"
 
 namespace probeless::sim {
@@ -108,6 +109,10 @@ SimOptions parse_sim_options(std::string_view spec) {
       o.board = parse_bool(key, value);
     } else if (key == "near_occluder") {
       o.near_occluder = parse_bool(key, value);
+    } else if (key == "scene") {
+      const auto scene = find_moving_scene(value);
+      if (!scene) bad(key, value, "one of " + moving_scene_names(", "));
+      o.scene = *scene;
     } else if (key == "stamp") {
       o.stamp = parse_bool(key, value);
     } else if (key == "edge_samples") {
@@ -166,7 +171,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "frames, "
           "prerender, stall, stall_every, "
           "truth, "
-          "threads, start, board, near_occluder, edge_samples, stamp)");
+          "threads, start, board, near_occluder, edge_samples, stamp, scene)");
     }
   }
   return o;

@@ -19,6 +19,11 @@ namespace probeless::sim {
 // the board is then always on and the arm stays away).
 enum class TrajectoryKind { Static, Orbit, Handheld, Tabletop, Calibration };
 
+// The moving-object scenes (issue #21 item 6; sim_moving_scene.hpp, docs/fusion.md): a real
+// object moves next to where the virtual chrome sphere stands, at known times. None: the
+// default world (the arm, as before).
+enum class MovingScene { None, BoxSlides, HandApproaches, BoxRemoved, BoxAppears };
+
 struct SimOptions {
   std::uint64_t seed = 1;
   TrajectoryKind trajectory = TrajectoryKind::Orbit;
@@ -83,6 +88,10 @@ struct SimOptions {
   // glass-to-glass latency bench (`probeless bench latency`, docs/outputs.md). Off by default:
   // the code covers 144 x 48 pixels of the picture.
   bool stamp = false;
+  // A moving-object scene (`scene=box_slides`, ...; sim_moving_scene.hpp): its objects take
+  // the arm's place in both cameras (the arm stays out, so the scene's object is the only
+  // thing that moves). None by default: the frames without it are unchanged.
+  MovingScene scene = MovingScene::None;
 };
 
 // Parses "seed=3,trajectory=static,fps=30,realtime=0,stall=60:120,..." (the part after
@@ -91,7 +100,8 @@ struct SimOptions {
 // fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam (an OCamCalib file),
 // fisheye_ocam_model (ocam or kannala_brandt: that lens fitted), frames (max_frames), stall
 // (BEGIN:END), stall_every (frames), truth, threads, start (seconds of world time at the first
-// frame), near_occluder (0|1), edge_samples (1..8), stamp (0|1).
+// frame), near_occluder (0|1), edge_samples (1..8), stamp (0|1), scene (a moving-object scene's
+// name, moving_scenes()).
 SimOptions parse_sim_options(std::string_view spec);
 
 // Rig from drivers/source.hpp (rgbd + fisheye + calibration, and its scene: object_anchor()

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <vector>
 
+#include "drivers/sim/sim_moving_scene.hpp"
 #include "drivers/sim/sim_renderer.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "drivers/sim/sim_world.hpp"
@@ -19,11 +20,13 @@ inline const Occluder* arm_in_view(const SimOptions& options, const Occluder& ar
   return options.trajectory == TrajectoryKind::Calibration ? nullptr : &arm;
 }
 
-// Everything that moves in front of the room at time t: the arm, and the near hand when
-// SimOptions::near_occluder (placed from the colour camera's pose, so both sources agree).
+// Everything that moves in front of the room at time t: the arm (or, in a moving-object scene,
+// that scene's objects instead), and the near hand when SimOptions::near_occluder (placed
+// from the colour camera's pose, so both sources agree).
 inline Occluder scene_occluders(const SimWorld& world, const SimOptions& options, double t,
                                 const Pose& T_world_rgb) {
-  Occluder o = world.occluder(t, T_world_rgb.translation);
+  Occluder o = options.scene == MovingScene::None ? world.occluder(t, T_world_rgb.translation)
+                                                  : moving_scene_objects(options.scene, t);
   if (options.near_occluder)
     for (const Capsule& c : SimWorld::near_hand(t, T_world_rgb)) o.capsules.push_back(c);
   return o;

@@ -97,6 +97,35 @@ inline bool hit_capsule(const Ray& r, const Capsule& cap, float& t) {
   return hit_sphere(r, y <= 0 ? cap.a : cap.b, cap.radius, t);
 }
 
+// A moving box's nearest entry in (0, t_max): t, its faces all seen (closed box).
+inline bool hit_moving_box(const Ray& r, const MovingBox& b, float t_max, float& t) {
+  float t_near = -std::numeric_limits<float>::infinity(), t_far = t_max;
+  for (int a = 0; a < 3; ++a) {
+    float t0 = (b.lo[a] - r.o[a]) * r.inv_d[a];
+    float t1 = (b.hi[a] - r.o[a]) * r.inv_d[a];
+    if (t0 > t1) std::swap(t0, t1);
+    t_near = std::max(t_near, t0);
+    t_far = std::min(t_far, t1);
+  }
+  if (!(t_near <= t_far) || !(t_near > 0)) return false;
+  t = t_near;
+  return true;
+}
+
+// The outward normal of a moving box at a point p on its surface: the face p is nearest.
+inline Eigen::Vector3f moving_box_normal(const MovingBox& b, const Eigen::Vector3f& p) {
+  int best = 0;
+  float best_d = std::numeric_limits<float>::infinity();
+  for (int f = 0; f < 6; ++f) {
+    const float d = std::fabs(p[f / 2] - (f % 2 ? b.hi[f / 2] : b.lo[f / 2]));
+    if (d < best_d) {
+      best_d = d;
+      best = f;
+    }
+  }
+  return Eigen::Vector3f::Unit(best / 2) * (best % 2 ? 1.0f : -1.0f);
+}
+
 // The first hit among the room and the candidates.
 inline Hit trace(const Ray& r, const SimWorld& w, std::span<const PrimRef> candidates,
                  const Occluder* occluder) {
@@ -118,6 +147,13 @@ inline Hit trace(const Ray& r, const SimWorld& w, std::span<const PrimRef> candi
         float t;
         if (occluder && hit_capsule(r, occluder->capsules[p.index], t) && t < hit.t)
           hit = {Hit::Kind::Occluder, t, p.index};
+        break;
+      }
+      case PrimRef::Kind::OccluderBox: {
+        float t;
+        if (occluder && hit_moving_box(r, occluder->boxes[p.index], hit.t, t))
+          hit = {Hit::Kind::Occluder, t,
+                 static_cast<int>(occluder->capsules.size()) + static_cast<int>(p.index)};
         break;
       }
     }
@@ -155,9 +191,10 @@ inline bool patch_has_depth(const Patch& patch, const Eigen::Vector3f& p) {
   return true;
 }
 
-// Radiance leaving the arm at p with normal n (Lambertian skin, lights as points, no shadows).
-inline Eigen::Vector3f skin_radiance(const SimWorld& w, int lamp_state, const Eigen::Vector3f& p,
-                                     const Eigen::Vector3f& n) {
+// Radiance leaving a moving thing at p with normal n and this albedo (Lambertian, the lights
+// as points, no shadows): the arm's skin, and the moving-object scenes' boxes.
+inline Eigen::Vector3f moving_radiance(const SimWorld& w, int lamp_state, const Eigen::Vector3f& p,
+                                       const Eigen::Vector3f& n, const Eigen::Vector3f& albedo) {
   Eigen::Vector3f irradiance = w.ambient(lamp_state);
   for (const AreaLight& l : w.lights()) {
     if (l.switch_bit >= 0 && !((lamp_state >> l.switch_bit) & 1)) continue;
@@ -169,7 +206,13 @@ inline Eigen::Vector3f skin_radiance(const SimWorld& w, int lamp_state, const Ei
     const float area = 4.0f * l.u_half.norm() * l.v_half.norm();
     irradiance += l.radiance * (area * cos_s * cos_l / r2);
   }
-  return w.skin_albedo().cwiseProduct(irradiance) * (1.0f / 3.14159265f);
+  return albedo.cwiseProduct(irradiance) * (1.0f / 3.14159265f);
+}
+
+// Radiance leaving the arm at p with normal n (Lambertian skin, lights as points, no shadows).
+inline Eigen::Vector3f skin_radiance(const SimWorld& w, int lamp_state, const Eigen::Vector3f& p,
+                                     const Eigen::Vector3f& n) {
+  return moving_radiance(w, lamp_state, p, n, w.skin_albedo());
 }
 
 inline Eigen::Vector3f capsule_normal(const Capsule& cap, const Eigen::Vector3f& p) {
@@ -187,6 +230,12 @@ inline Hit trace_all(const Ray& r, const SimWorld& w, const Occluder* occluder) 
       float t;
       if (hit_capsule(r, occluder->capsules[i], t) && t < hit.t) hit = {Hit::Kind::Occluder, t, i};
     }
+    const int n_capsules = static_cast<int>(occluder->capsules.size());
+    for (int j = 0; j < static_cast<int>(occluder->boxes.size()); ++j) {
+      float t;
+      if (hit_moving_box(r, occluder->boxes[j], hit.t, t))
+        hit = {Hit::Kind::Occluder, t, n_capsules + j};
+    }
   }
   return hit;
 }
@@ -196,8 +245,13 @@ inline Eigen::Vector3f shade_diffuse(const Ray& r, const Hit& hit, const SimWorl
                                      int lamp_state, const Occluder* occluder) {
   const Eigen::Vector3f p = r.o + hit.t * r.d;
   if (hit.kind == Hit::Kind::Patch) return patch_radiance(w.patches()[hit.index], lamp_state, p);
-  if (hit.kind == Hit::Kind::Occluder && occluder)
-    return skin_radiance(w, lamp_state, p, capsule_normal(occluder->capsules[hit.index], p));
+  if (hit.kind == Hit::Kind::Occluder && occluder) {
+    const auto n_capsules = static_cast<int>(occluder->capsules.size());
+    if (hit.index < n_capsules)
+      return skin_radiance(w, lamp_state, p, capsule_normal(occluder->capsules[hit.index], p));
+    const MovingBox& b = occluder->boxes[static_cast<std::size_t>(hit.index - n_capsules)];
+    return moving_radiance(w, lamp_state, p, moving_box_normal(b, p), b.albedo);
+  }
   return Eigen::Vector3f::Zero();
 }
 

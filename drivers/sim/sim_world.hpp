@@ -50,16 +50,26 @@ struct Capsule {
   float radius = 0;
 };
 
-// A primitive reference in a candidate list (a tile's, or all static ones).
+// A real box that moves (the moving-object scenes, sim_moving_scene.hpp): Lambertian with a
+// flat albedo, lit like the arm (ambient, the lights as points, no shadows either way).
+struct MovingBox {
+  Eigen::Vector3f lo, hi, albedo;
+};
+
+// A primitive reference in a candidate list (a tile's, or all static ones). OccluderBox
+// indexes Occluder::boxes.
 struct PrimRef {
-  enum class Kind : std::uint8_t { Box, Sphere, Capsule } kind;
+  enum class Kind : std::uint8_t { Box, Sphere, Capsule, OccluderBox } kind;
   std::uint8_t index;
 };
 
 // The moving occluders: the arm (hand, forearm, upper arm), and with `near_occluder=1` a
-// hand close in front of the colour camera (hand, forearm) after them.
+// hand close in front of the colour camera (hand, forearm) after them; with `scene=NAME` that
+// scene's objects instead of the arm. A hit on boxes[j] is Hit::Kind::Occluder with index
+// capsules.size() + j, so every reader of the occluder flag sees a moving box as moving.
 struct Occluder {
   std::vector<Capsule> capsules;
+  std::vector<MovingBox> boxes;
 };
 
 // A rectangular emitter: centre +- u_half +- v_half, emitting towards `normal`; `radiance` is

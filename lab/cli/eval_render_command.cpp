@@ -1,6 +1,6 @@
 // probeless eval render --source sim: the virtual objects lit by the service's captured light
 // against the same objects under the sim's ground-truth light (issue #6; docs/rendering.md
-// "eval render").
+// "eval render"); with --scene, the moving-object judge (docs/fusion.md).
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -9,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "lab/cli/eval_render_scene.hpp"
 #include "lab/cli/lab_commands.hpp"
 #include "lab/eval/render_eval.hpp"
 
@@ -20,6 +21,9 @@ struct Options {
   std::string config_path;
   std::string json;
   eval::RenderEvalOptions eval;
+  std::string scene;  // a moving-object scene (docs/fusion.md); empty: the default protocol
+  bool list_scenes = false;
+  bool orbit_given = false;  // --orbit or --after: the default protocol's only
 };
 
 std::string optional_s(const std::optional<double>& v) {
@@ -27,9 +31,19 @@ std::string optional_s(const std::optional<double>& v) {
 }
 
 void run(Options& o) {
+  if (o.list_scenes) {
+    list_moving_scenes();
+    return;
+  }
   if (o.source != "sim") throw CommandError("eval render: only --source sim has ground truth");
   o.eval.config = o.config_path.empty() ? ServiceConfig{} : load_service_config(o.config_path);
   o.eval.config.source = "sim";
+  if (!o.scene.empty()) {
+    if (o.orbit_given)
+      throw CommandError("eval render: --orbit and --after do not apply to a --scene");
+    run_eval_render_scene({o.scene, o.eval.sim_spec, o.json, o.eval.dump_dir, o.eval.config});
+    return;
+  }
   if (!o.eval.dump_dir.empty()) std::filesystem::create_directories(o.eval.dump_dir);
   eval::RenderEvalReport r;
   try {
@@ -100,17 +114,25 @@ void add_eval_render_command(CLI::App& eval) {
   cmd->add_option("--source", o->source, "Source with ground truth (sim)")->capture_default_str();
   cmd->add_option("--config", o->config_path,
                   "Service configuration: objects, [ground], [light] (docs/configuration.md)");
-  cmd->add_option("--orbit", o->eval.orbit_s, "Seconds of orbit before the comparison")
-      ->capture_default_str();
-  cmd->add_option("--after", o->eval.after_switch_s,
-                  "Seconds after the lamp switch the response is followed")
-      ->capture_default_str();
+  auto* orbit =
+      cmd->add_option("--orbit", o->eval.orbit_s, "Seconds of orbit before the comparison")
+          ->capture_default_str();
+  auto* after = cmd->add_option("--after", o->eval.after_switch_s,
+                                "Seconds after the lamp switch the response is followed")
+                    ->capture_default_str();
+  cmd->add_option("--scene", o->scene,
+                  "A moving-object scene (--list-scenes): the sphere's error over the nearby "
+                  "object and the arrival and removal times (docs/fusion.md)");
+  cmd->add_flag("--list-scenes", o->list_scenes, "Print the moving-object scene names and exit");
   cmd->add_option("--sim", o->eval.sim_spec, "Extra sim options (seed=2,fisheye_size=1024,...)");
   cmd->add_option("--json", o->json, "Write the report as JSON");
   cmd->add_option("--dump", o->eval.dump_dir,
                   "Write DIR/chrome_sphere.png (captured | truth | difference x4) and "
                   "DIR/objects.png (captured | truth)");
-  cmd->callback([o] { run(*o); });
+  cmd->callback([o, orbit, after] {
+    o->orbit_given = orbit->count() > 0 || after->count() > 0;
+    run(*o);
+  });
 }
 
 }  // namespace probeless::cli

@@ -118,7 +118,9 @@ double relative_error(const ShRgb& est, const ShRgb& truth, int count) {
 // face is a 90-degree pinhole view. GL faces are mirror images of a right-handed camera
 // (s x t = -major), so the camera's x runs along -s and the image is flipped back.
 envmap::ImageRGBAF render_truth_cubemap(const std::shared_ptr<const sim::SimWorld>& world,
-                                        const Eigen::Vector3d& position, int lamp_state, int n) {
+                                        const Eigen::Vector3d& position, int lamp_state, int n,
+                                        const sim::Occluder* objects,
+                                        envmap::ImageRGBAF* object_hits) {
   static const std::array<std::array<Eigen::Vector3d, 3>, 6> kAxes{{
       {{{0, 0, -1}, {0, -1, 0}, {1, 0, 0}}},   // +X: s, t, major
       {{{0, 0, 1}, {0, -1, 0}, {-1, 0, 0}}},   // -X
@@ -131,18 +133,24 @@ envmap::ImageRGBAF render_truth_cubemap(const std::shared_ptr<const sim::SimWorl
   const double f = 0.5 * n, c = 0.5 * (n - 1);
   sim::SimRenderer renderer(world, n, n, f, f, c, c, &pool);
   envmap::ImageRGBAF out = envmap::make_texels(n);
+  if (object_hits) *object_hits = envmap::make_texels(n);
   for (int face = 0; face < 6; ++face) {
     Eigen::Matrix3d r;
     r << -kAxes[face][0], kAxes[face][1], kAxes[face][2];
     Pose T_world_camera;
     T_world_camera.rotation = Eigen::Quaterniond(r);
     T_world_camera.translation = position;
-    renderer.render(T_world_camera, lamp_state, nullptr, false);
+    // The flags (with depth) say where the objects are the first hit.
+    renderer.render(T_world_camera, lamp_state, objects, object_hits != nullptr);
     const ImageRGBF& rad = renderer.radiance();
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         for (int ch = 0; ch < 3; ++ch) out.at(x, face * n + y, ch) = rad.at(n - 1 - x, y, ch);
         out.at(x, face * n + y, 3) = 1.0F;
+        if (!object_hits) continue;
+        const bool hit = (renderer.flags().at(n - 1 - x, y) & sim::kFlagOccluder) != 0;
+        for (int ch = 0; ch < 3; ++ch) object_hits->at(x, face * n + y, ch) = hit ? 1.0F : 0.0F;
+        object_hits->at(x, face * n + y, 3) = 1.0F;
       }
   }
   return out;

@@ -74,8 +74,14 @@ TruthComparison compare_cubemaps(const envmap::ImageRGBAF& est, const envmap::Im
                                  const std::vector<bool>& observed);
 // The sim's room seen from `position` under `lamp_state` as n x 6n texels (the keyframe
 // layout), one ray per texel centre; alpha 1. Box-average a larger one for a smoother truth.
+// With `objects` (a moving-object scene's, sim_moving_scene.hpp) they are in the room too, and
+// `object_hits` (when given) gets 1 in RGB where a texel's ray meets one of them first, else
+// 0: box-averaged, each texel's share of the object (the near-object mask of `eval render
+// --scene`, docs/fusion.md).
 envmap::ImageRGBAF render_truth_cubemap(const std::shared_ptr<const sim::SimWorld>& world,
-                                        const Eigen::Vector3d& position, int lamp_state, int n);
+                                        const Eigen::Vector3d& position, int lamp_state, int n,
+                                        const sim::Occluder* objects = nullptr,
+                                        envmap::ImageRGBAF* object_hits = nullptr);
 // Box-average of an n x 6n keyframe to m-px faces; a texel is observed when all of its n/m
 // x n/m sources are (alpha > 0).
 envmap::ImageRGBAF average_observed(const envmap::ImageRGBAF& texels, int m,

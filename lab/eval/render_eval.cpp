@@ -12,11 +12,11 @@
 #include "app/render/renderer.hpp"
 #include "core/exposure_count.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
-#include "drivers/io/png.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "drivers/sim/sim_world.hpp"
 #include "kernels/envmap/envmap_types.hpp"
 #include "lab/eval/light_eval.hpp"
+#include "lab/eval/render_eval_common.hpp"
 
 namespace probeless::eval {
 namespace {
@@ -31,49 +31,6 @@ constexpr double kLampTolerance = 0.10;
 // A ground pixel is in the shadow region when the truth's change there is at least this share
 // of its largest: the contact shadow, not the faint far tail of the transfer difference.
 constexpr double kShadowShare = 0.10;
-// The chrome sphere: the size of the default scene's mirror sphere, seen from 0.6 m.
-constexpr float kSphereRadius = 0.1f;
-constexpr double kSphereDistance = 0.6;
-
-double luminance(const ImageRGBAF& img, int x, int y) {
-  return 0.2126 * img.at(x, y, 0) + 0.7152 * img.at(x, y, 1) + 0.0722 * img.at(x, y, 2);
-}
-
-std::shared_ptr<const render::Environment> scaled_environment(const LightSnapshot& snap,
-                                                              double scale) {
-  ImageRGBAF faces = snap.texels;
-  for (int y = 0; y < faces.height(); ++y)
-    for (int x = 0; x < faces.width(); ++x)
-      for (int c = 0; c < 3; ++c) faces.at(x, y, c) *= static_cast<float>(scale);
-  ShRgb sh = snap.sh;
-  for (auto& c : sh.c) c *= scale;
-  return std::make_shared<const render::Environment>(render::make_environment(faces, sh));
-}
-
-// The sim's room from `where` at face size n, s x s rays per texel (box-averaged).
-std::shared_ptr<const render::Environment> truth_environment(
-    const std::shared_ptr<const sim::SimWorld>& world, const Eigen::Vector3d& where, int lamps,
-    int n, int s) {
-  std::vector<bool> observed;
-  const ImageRGBAF fine = light::render_truth_cubemap(world, where, lamps, n * s);
-  const ImageRGBAF texels = light::average_observed(fine, n, observed);
-  return std::make_shared<const render::Environment>(
-      render::make_environment(envmap::to_cubemap(texels)));
-}
-
-std::vector<render::VirtualObject> lit_by(std::vector<render::VirtualObject> objects,
-                                          const std::shared_ptr<const render::Environment>& env) {
-  for (auto& o : objects) o.environment = env;
-  return objects;
-}
-
-ImageRGBAF render_float(render::Renderer& renderer, const render::Camera& camera,
-                        const std::vector<render::VirtualObject>& objects) {
-  render::RenderTarget target;
-  target.output = render::ColourOutput::LinearFloat;
-  renderer.render(camera, objects, target);
-  return target.radiance;
-}
 
 double mean_luminance(const ImageRGBAF& img) {
   double sum = 0;
@@ -85,50 +42,6 @@ double mean_luminance(const ImageRGBAF& img) {
         ++n;
       }
   return n > 0 ? sum / n : 0.0;
-}
-
-// Side by side, one exposure for all (mid grey at the truth's median over `mask`), gamma 2.2;
-// with `difference`, a third panel |a - b| x 4.
-void write_panels(const std::string& path, const ImageRGBAF& a, const ImageRGBAF& b,
-                  const std::vector<bool>& mask, bool difference) {
-  std::vector<double> lum;
-  for (int y = 0; y < b.height(); ++y)
-    for (int x = 0; x < b.width(); ++x)
-      if (mask[static_cast<std::size_t>(y * b.width() + x)]) lum.push_back(luminance(b, x, y));
-  double exposure = 1;
-  if (!lum.empty()) {
-    std::nth_element(lum.begin(), lum.begin() + lum.size() / 2, lum.end());
-    if (lum[lum.size() / 2] > 0) exposure = 0.18 / lum[lum.size() / 2];
-  }
-  const int w = a.width(), h = a.height(), panels = difference ? 3 : 2, gap = 4;
-  ImageRGB8 out(panels * w + (panels - 1) * gap, h);
-  const auto put = [&](int px, int x, int y, double v, int c) {
-    const double g = std::pow(std::clamp(v * exposure, 0.0, 1.0), 1.0 / 2.2);
-    out.at(px * (w + gap) + x, y, c) = static_cast<std::uint8_t>(std::lround(255.0 * g));
-  };
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      for (int c = 0; c < 3; ++c) {
-        put(0, x, y, a.at(x, y, c), c);
-        put(1, x, y, b.at(x, y, c), c);
-        if (difference) put(2, x, y, 4.0 * std::abs(a.at(x, y, c) - b.at(x, y, c)), c);
-      }
-  write_png(path, out);
-}
-
-// A camera looking at the light point horizontally from the colour camera's side, framing the
-// sphere in about 85 % of the image.
-render::Camera sphere_camera(const Eigen::Vector3d& target, const Eigen::Vector3d& from, int size) {
-  Eigen::Vector3d dir = from - target;
-  dir.z() = 0;
-  if (dir.norm() < 1e-6) dir = Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d eye = target + kSphereDistance * dir.normalized();
-  PinholeIntrinsics k;
-  k.width = k.height = size;
-  const double half_angle = std::asin(kSphereRadius / kSphereDistance);
-  k.fx = k.fy = 0.85 * 0.5 * size / std::tan(half_angle);
-  k.cx = k.cy = 0.5 * (size - 1);
-  return {k, render::camera_look_at(eye, target)};
 }
 
 }  // namespace
@@ -309,10 +222,7 @@ RenderEvalReport evaluate_render_sim(const RenderEvalOptions& o) {
   report.shadow_rel_error = relative_rgb_error(cap, tru, shadow_mask);
 
   // The chrome sphere (thesis Fig. 4.13 / 6.9): a mirror ball at the light point.
-  render::VirtualObject ball;
-  ball.mesh = std::make_shared<const render::Mesh>(render::make_sphere(kSphereRadius, 96, 48));
-  ball.T_world_object.translation = light_point;
-  ball.material.shading = render::Material::Shading::Mirror;
+  const render::VirtualObject ball = chrome_sphere(light_point);
   const render::Camera ball_camera =
       sphere_camera(light_point, compare_camera.T_world_camera.translation, o.sphere_image_size);
   const ImageRGBAF ball_cap = render_float(renderer, ball_camera, lit_by({ball}, captured_env));

@@ -1,0 +1,40 @@
+// The moving-object judge end to end on one scene (docs/fusion.md), at small sizes so that it
+// takes seconds: the report's shape, the fusion column honest about not existing, and today's
+// method as docs/fusion.md measured it at full size (the box hardly shown, so no removal).
+#include "lab/eval/moving_scene_eval.hpp"
+
+#include <gtest/gtest.h>
+
+namespace probeless::eval {
+namespace {
+
+TEST(MovingSceneEval, BoxRemovedEndToEnd) {
+  MovingSceneEvalOptions o;
+  o.scene = sim::MovingScene::BoxRemoved;
+  o.config.light_face_size = 64;
+  o.sphere_image_size = 96;
+  const MovingSceneReport r = evaluate_moving_scene(o);
+  EXPECT_EQ(r.scene, "box_removed");
+  EXPECT_FALSE(r.fusion_implemented);
+  EXPECT_EQ(r.with_fusion.source, EnvironmentSource::ColourFillRoomBox)
+      << "until the fusion exists its column is today's method";
+  EXPECT_DOUBLE_EQ(r.with_fusion.near_object_rel_rmse, r.without_fusion.near_object_rel_rmse);
+  const SceneMetrics& m = r.without_fusion;
+  EXPECT_EQ(m.fisheye_frames, 165);  // 5.5 s at 30 fps
+  EXPECT_EQ(m.snapshots, 17);        // from 1.0 s, every 0.267 s
+  ASSERT_EQ(m.events.size(), 1u);
+  const EventResult& e = m.events[0];
+  EXPECT_EQ(e.event.kind, sim::SceneEvent::Kind::Removal);
+  EXPECT_GT(e.mask_pixels, 100);
+  ASSERT_FALSE(e.samples.empty());
+  EXPECT_NEAR(e.samples.front().t_s, 1.6, 1e-3) << "the first after the reference (1.333 s)";
+  EXPECT_FALSE(m.arrival_s.has_value()) << "no arrival in this scene";
+  // The box is on the sphere's pixels until 2.0 s only.
+  for (const SnapshotSample& s : m.samples)
+    EXPECT_EQ(s.near_object_pixels > 0, s.t_s < 2.0) << "t = " << s.t_s;
+  EXPECT_GT(m.near_object_rel_rmse, 0.5) << "today's method hardly shows the box";
+  EXPECT_LT(m.whole_sphere_rel_rmse, 0.2);
+}
+
+}  // namespace
+}  // namespace probeless::eval
