@@ -3,15 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 #include "app/pipeline/light_capture.hpp"
 #include "app/pipeline/scene_objects.hpp"
 #include "app/render/renderer.hpp"
-#include "core/exposure_count.hpp"
-#include "drivers/bracket/bracket_sequencer.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "lab/eval/render_eval.hpp"
 #include "lab/eval/render_eval_common.hpp"
@@ -81,38 +78,18 @@ std::vector<Snapshot> run_light_stage(const MovingSceneEvalOptions& o,
                              capture.status().value("error", std::string("failed")));
   const double scale = sim::fisheye_radiance_per_converted();
 
-  BracketSequencer sequencer;
-  RgbdFrame rgbd;
-  FisheyeFrame frame;
-  const auto timeout = std::chrono::milliseconds(5000);
+  SimLightFeed feed(rig, capture);
   const int frames = static_cast<int>(std::lround(spec.duration_s * sim_options.fisheye_fps));
   std::vector<Snapshot> out;
   std::uint64_t seen_version = 0;
-  bool rgbd_ended = false, have_camera = false;
+  bool have_camera = false;
   for (int i = 0; i < frames; ++i) {
-    const ExposureStamp stamp = sequencer.next();
-    rig.fisheye->set_next_exposure(stamp);
-    if (rig.fisheye->read(frame, timeout) != ReadResult::Frame)
-      throw std::runtime_error("eval render: the sim's fisheye stopped");
-    while (!rgbd_ended && rgbd.timestamp_ns <= frame.timestamp_ns) {
-      if (rig.rgbd->read(rgbd, timeout) != ReadResult::Frame || !rgbd.truth ||
-          !rgbd.truth->rig_pose) {
-        rgbd_ended = true;
-        break;
-      }
-      capture.add_rig_pose(rgbd.timestamp_ns, *rgbd.truth->rig_pose);
-      capture.offer_rgbd(rgbd);
-      if (!have_camera) {  // the sphere is seen from the colour camera's side at the start
-        const Pose cam = *rgbd.truth->rig_pose * rig.calibration.T_rig_rgb;
-        sphere_cam = sphere_camera(truth.centre, cam.translation, o.sphere_image_size);
-        have_camera = true;
-      }
-    }
-    sequencer.observe(frame.exposure,
-                      count_exposure(frame.raw, frame.bit_depth, frame.black_level));
-    if (!capture.process(frame))
-      throw std::runtime_error("eval render: light capture: " +
-                               capture.status().value("error", std::string("failed")));
+    feed.step([&](const RgbdFrame& rgbd) {
+      if (have_camera) return;  // the sphere is seen from the colour camera's side at the start
+      const Pose cam = *rgbd.truth->rig_pose * rig.calibration.T_rig_rgb;
+      sphere_cam = sphere_camera(truth.centre, cam.translation, o.sphere_image_size);
+      have_camera = true;
+    });
     ++fisheye_frames;
     const auto snap = capture.latest_light();
     if (!snap || snap->version == seen_version) continue;

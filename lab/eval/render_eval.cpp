@@ -10,8 +10,6 @@
 #include "app/pipeline/light_capture.hpp"
 #include "app/pipeline/scene_objects.hpp"
 #include "app/render/renderer.hpp"
-#include "core/exposure_count.hpp"
-#include "drivers/bracket/bracket_sequencer.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "drivers/sim/sim_world.hpp"
 #include "kernels/envmap/envmap_types.hpp"
@@ -105,11 +103,8 @@ RenderEvalReport evaluate_render_sim(const RenderEvalOptions& o) {
       truth_environment(world, light_point, 1, n, o.truth_supersample)};
   const double scale = sim::fisheye_radiance_per_converted();
 
-  BracketSequencer sequencer;
-  RgbdFrame rgbd;
-  FisheyeFrame frame;
+  SimLightFeed feed(rig, capture);
   Pose T_world_rig = Pose::identity();
-  const auto timeout = std::chrono::milliseconds(5000);
   const int frames =
       static_cast<int>(std::lround((o.orbit_s + o.after_switch_s) * sim_options.fisheye_fps));
   RenderEvalReport report;
@@ -117,29 +112,10 @@ RenderEvalReport evaluate_render_sim(const RenderEvalOptions& o) {
   std::shared_ptr<const LightSnapshot> compared;
   render::Camera compare_camera;
   std::uint64_t seen_version = 0;
-  bool rgbd_ended = false;
   for (int i = 0; i < frames; ++i) {
-    const ExposureStamp stamp = sequencer.next();
-    rig.fisheye->set_next_exposure(stamp);
-    if (rig.fisheye->read(frame, timeout) != ReadResult::Frame)
-      throw std::runtime_error("eval render: the sim's fisheye stopped");
-    // The colour frames up to this fisheye frame: poses for the light stage, colour for its
+    // The colour frames up to this fisheye frame give the light stage its poses and its
     // exposure estimate, and the camera the objects are seen from.
-    while (!rgbd_ended && rgbd.timestamp_ns <= frame.timestamp_ns) {
-      if (rig.rgbd->read(rgbd, timeout) != ReadResult::Frame || !rgbd.truth ||
-          !rgbd.truth->rig_pose) {
-        rgbd_ended = true;
-        break;
-      }
-      T_world_rig = *rgbd.truth->rig_pose;
-      capture.add_rig_pose(rgbd.timestamp_ns, T_world_rig);
-      capture.offer_rgbd(rgbd);
-    }
-    sequencer.observe(frame.exposure,
-                      count_exposure(frame.raw, frame.bit_depth, frame.black_level));
-    if (!capture.process(frame))
-      throw std::runtime_error("eval render: light capture: " +
-                               capture.status().value("error", std::string("failed")));
+    feed.step([&](const RgbdFrame& rgbd) { T_world_rig = *rgbd.truth->rig_pose; });
     ++report.fisheye_frames;
 
     const auto snap = capture.latest_light();

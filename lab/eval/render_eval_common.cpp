@@ -1,8 +1,11 @@
 #include "lab/eval/render_eval_common.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <stdexcept>
 
+#include "core/exposure_count.hpp"
 #include "drivers/io/png.hpp"
 #include "kernels/envmap/envmap_types.hpp"
 #include "lab/eval/light_eval.hpp"
@@ -102,6 +105,36 @@ void write_panels(const std::string& path, const ImageRGBAF& a, const ImageRGBAF
         if (difference) put(2, x, y, 4.0 * std::abs(a.at(x, y, c) - b.at(x, y, c)), c);
       }
   write_png(path, out);
+}
+
+namespace {
+constexpr std::chrono::milliseconds kSimTimeout{5000};
+}  // namespace
+
+void SimLightFeed::read_fisheye() {
+  rig_.fisheye->set_next_exposure(sequencer_.next());
+  if (rig_.fisheye->read(fisheye_, kSimTimeout) != ReadResult::Frame)
+    throw std::runtime_error("eval render: the sim's fisheye stopped");
+}
+
+bool SimLightFeed::next_rgbd() {
+  if (rgbd_ended_ || rgbd_.timestamp_ns > fisheye_.timestamp_ns) return false;
+  if (rig_.rgbd->read(rgbd_, kSimTimeout) != ReadResult::Frame || !rgbd_.truth ||
+      !rgbd_.truth->rig_pose) {
+    rgbd_ended_ = true;
+    return false;
+  }
+  capture_.add_rig_pose(rgbd_.timestamp_ns, *rgbd_.truth->rig_pose);
+  capture_.offer_rgbd(rgbd_);
+  return true;
+}
+
+void SimLightFeed::update_light() {
+  sequencer_.observe(fisheye_.exposure,
+                     count_exposure(fisheye_.raw, fisheye_.bit_depth, fisheye_.black_level));
+  if (!capture_.process(fisheye_))
+    throw std::runtime_error("eval render: light capture: " +
+                             capture_.status().value("error", std::string("failed")));
 }
 
 }  // namespace probeless::eval

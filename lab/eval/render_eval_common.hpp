@@ -9,7 +9,9 @@
 
 #include "app/pipeline/light_capture.hpp"
 #include "app/render/renderer.hpp"
+#include "drivers/bracket/bracket_sequencer.hpp"
 #include "drivers/sim/sim_world.hpp"
+#include "drivers/source.hpp"
 
 namespace probeless::eval {
 
@@ -43,6 +45,33 @@ render::VirtualObject chrome_sphere(const Eigen::Vector3d& centre);
 // A camera looking at `target` horizontally from the side of `from`, framing the sphere in
 // about 85 % of the image.
 render::Camera sphere_camera(const Eigen::Vector3d& target, const Eigen::Vector3d& from, int size);
+
+// The sim's light capture fed as the service feeds it, one fisheye frame a step: the bracket's
+// next exposure, the fisheye frame, every colour frame up to its time (its rig pose and colour
+// into the capture, then to `on_rgbd`), the exposure count, the light update. Throws
+// std::runtime_error when a source stops or the capture fails.
+class SimLightFeed {
+ public:
+  SimLightFeed(Rig& rig, LightCapture& capture) : rig_(rig), capture_(capture) {}
+  template <typename OnRgbd>
+  void step(OnRgbd&& on_rgbd) {
+    read_fisheye();
+    while (next_rgbd()) on_rgbd(rgbd_);
+    update_light();
+  }
+
+ private:
+  void read_fisheye();
+  bool next_rgbd();  // the next colour frame up to the fisheye frame's time, fed to the capture
+  void update_light();
+
+  Rig& rig_;
+  LightCapture& capture_;
+  BracketSequencer sequencer_;
+  RgbdFrame rgbd_;
+  FisheyeFrame fisheye_;
+  bool rgbd_ended_ = false;
+};
 
 // Side by side, one exposure for all (mid grey at the truth's median over `mask`), gamma 2.2;
 // with `difference`, a third panel |a - b| x 4.

@@ -6,19 +6,13 @@
 #include <cmath>
 
 #include "drivers/sim/sim_rig.hpp"
+#include "tests/unit/sim/sim_first_frame.hpp"
 
 namespace probeless::sim {
 namespace {
 
 // t = 1.5 s on the tabletop: the near hand and the arm over the table, the camera moving.
 const std::string kSpec = "realtime=0,trajectory=tabletop,near_occluder=1,start=1.5,frames=1";
-
-RgbdFrame first_frame(const std::string& spec) {
-  Rig rig = make_sim_rig(parse_sim_options(spec));
-  RgbdFrame f;
-  EXPECT_EQ(rig.rgbd->read(f, std::chrono::milliseconds(10000)), ReadResult::Frame);
-  return f;
-}
 
 double linear(std::uint8_t v) {
   return std::pow(v / 255.0, 2.2);

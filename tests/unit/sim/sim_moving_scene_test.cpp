@@ -6,16 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "drivers/sim/sim_rig.hpp"
+#include "tests/unit/sim/sim_first_frame.hpp"
 
 namespace probeless::sim {
 namespace {
-
-RgbdFrame first_frame(const std::string& spec) {
-  Rig rig = make_sim_rig(parse_sim_options(spec));
-  RgbdFrame f;
-  EXPECT_EQ(rig.rgbd->read(f, std::chrono::milliseconds(10000)), ReadResult::Frame);
-  return f;
-}
 
 int occluder_pixels(const RgbdFrame& f) {
   int n = 0;
