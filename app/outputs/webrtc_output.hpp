@@ -47,8 +47,9 @@ struct WebRtcConfig {
   int max_sessions = 8;
   // An answer waits this long at most for ICE gathering (host candidates: milliseconds).
   int gather_timeout_ms = 3000;
-  // A session whose ICE connection stays "disconnected" this long is ended (a browser tab
-  // closed without DELETE).
+  // A session whose client has sent no RTCP, or whose ICE has been "disconnected", this long
+  // is ended (a browser tab closed without DELETE, a lost network). Above RTCP's interval:
+  // browsers report every second, GStreamer's clients every 5 s (+-50 %) by default.
   int disconnected_timeout_s = 10;
   // Frames waiting for the encoder before new ones are dropped (as [rtsp]).
   int max_queued_frames = 2;

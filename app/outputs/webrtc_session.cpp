@@ -8,6 +8,7 @@
 #include <gst/webrtc/webrtc.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 
@@ -84,6 +85,12 @@ void on_ice_state_cb(GstElement*, GParamSpec*, gpointer self) {
 void on_gathering_cb(GstElement*, GParamSpec*, gpointer self) {
   static_cast<Session*>(self)->on_gathering_state();
 }
+void on_ssrc_active_cb(GstElement*, guint, guint, gpointer self) {
+  static_cast<Session*>(self)->on_rtcp();
+}
+void on_bye_cb(GstElement*, guint, guint, gpointer self) {
+  static_cast<Session*>(self)->on_bye();
+}
 
 // A client's PLI or FIR reaches the payloader as an upstream force-key-unit event; it stops
 // at this session's appsrc, so it is passed on to the shared encoder from here.
@@ -138,11 +145,23 @@ Session::Session(std::string id, const std::string& offer, const WhepOfferChoice
   g_signal_connect(webrtc_.get(), "notify::ice-connection-state", G_CALLBACK(on_ice_state_cb),
                    this);
   g_signal_connect(webrtc_.get(), "notify::ice-gathering-state", G_CALLBACK(on_gathering_cb), this);
+  // The client's RTCP says it is there: a WebRTC receiver sends reports (and transport-cc
+  // feedback) every second or more often, and a BYE when it closes. ICE alone does not say it:
+  // libnice, as webrtcbin 1.22 sets it up, keeps a pair "connected" after its peer has gone
+  // (measured: a client that vanished was still connected a minute later).
+  rtpbin_ = gst::Element::adopt(gst_bin_get_by_name(GST_BIN(webrtc_.get()), "rtpbin"));
+  if (rtpbin_) {
+    g_signal_connect(rtpbin_.get(), "on-ssrc-active", G_CALLBACK(on_ssrc_active_cb), this);
+    g_signal_connect(rtpbin_.get(), "on-bye-ssrc", G_CALLBACK(on_bye_cb), this);
+  } else {
+    spdlog::warn("webrtc: no rtpbin in webrtcbin: a vanished client is found by ICE only");
+  }
   try {
     negotiate(offer, format, config);
   } catch (...) {
     gst_element_set_state(pipeline_.get(), GST_STATE_NULL);
     g_signal_handlers_disconnect_by_data(webrtc_.get(), this);
+    if (rtpbin_) g_signal_handlers_disconnect_by_data(rtpbin_.get(), this);
     throw;
   }
 }
@@ -227,6 +246,16 @@ void Session::negotiate(const std::string& offer, const WhepOfferChoice& format,
 Session::~Session() {
   gst_element_set_state(pipeline_.get(), GST_STATE_NULL);
   g_signal_handlers_disconnect_by_data(webrtc_.get(), this);
+  if (rtpbin_) g_signal_handlers_disconnect_by_data(rtpbin_.get(), this);
+}
+
+void Session::on_rtcp() {
+  last_heard_ns_ = monotonic_now_ns();
+}
+
+void Session::on_bye() {
+  bye_ = true;
+  if (hooks_.changed) hooks_.changed();
 }
 
 void Session::on_ice_state() {
@@ -235,6 +264,7 @@ void Session::on_ice_state() {
   ice_state_ = static_cast<int>(state);
   if (state == GST_WEBRTC_ICE_CONNECTION_STATE_CONNECTED ||
       state == GST_WEBRTC_ICE_CONNECTION_STATE_COMPLETED) {
+    if (!ever_connected_) connected_ns_ = monotonic_now_ns();
     ever_connected_ = true;
     disconnected_ns_ = 0;
   } else if (state == GST_WEBRTC_ICE_CONNECTION_STATE_DISCONNECTED) {
@@ -288,14 +318,17 @@ std::string Session::error() {
 
 bool Session::finished(TimestampNs now, TimestampNs connect_timeout,
                        TimestampNs disconnected_timeout) {
-  if (!error().empty()) return true;
+  if (!error().empty() || bye_) return true;
   const int state = ice_state_;
   if (state == GST_WEBRTC_ICE_CONNECTION_STATE_FAILED ||
       state == GST_WEBRTC_ICE_CONNECTION_STATE_CLOSED)
     return true;
   if (!ever_connected_) return answered_ns_ != 0 && now - answered_ns_ > connect_timeout;
   const TimestampNs since = disconnected_ns_;
-  return since != 0 && now - since > disconnected_timeout;
+  if (since != 0 && now - since > disconnected_timeout) return true;
+  // Silent: no RTCP for as long (counted from the connection when none came yet).
+  const TimestampNs heard = std::max<TimestampNs>(last_heard_ns_, connected_ns_);
+  return now - heard > disconnected_timeout;
 }
 
 }  // namespace probeless::webrtc

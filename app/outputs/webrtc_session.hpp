@@ -44,8 +44,8 @@ class Session {
   // not use them.
   void push(GstBuffer* access_unit, TimestampNs capture_ns);
 
-  // Failed or closed, connected neither within `connect_timeout` of the answer nor again
-  // within `disconnected_timeout` of a disconnection.
+  // Failed or closed, a BYE from the client, not connected within `connect_timeout` of the
+  // answer, ICE disconnected or no RTCP from the client for `disconnected_timeout`.
   // A pipeline error also ends the session (error() says which).
   bool finished(TimestampNs now, TimestampNs connect_timeout, TimestampNs disconnected_timeout);
   // The first error the session's pipeline posted; empty if none. The worker's thread.
@@ -55,6 +55,8 @@ class Session {
   // webrtcbin's signals (public for the C callbacks).
   void on_ice_state();
   void on_gathering_state();
+  void on_rtcp();  // any RTCP packet from the client
+  void on_bye();
 
  private:
   void negotiate(const std::string& offer, const WhepOfferChoice& format,
@@ -62,12 +64,15 @@ class Session {
 
   std::string id_;
   SessionHooks hooks_;
-  gst::Element pipeline_, src_, webrtc_;
+  gst::Element pipeline_, src_, webrtc_, rtpbin_;
   std::string answer_;
   TimestampNs answered_ns_ = 0;
   std::atomic<int> ice_state_{0};                // GstWebRTCICEConnectionState
   std::atomic<TimestampNs> disconnected_ns_{0};  // when it became disconnected, 0: is not
   std::atomic<bool> ever_connected_{false};
+  std::atomic<TimestampNs> connected_ns_{0};
+  std::atomic<TimestampNs> last_heard_ns_{0};  // the client's last RTCP
+  std::atomic<bool> bye_{false};
   std::mutex gather_mutex_;
   std::condition_variable gathered_cv_;
   bool gathered_ = false;

@@ -49,8 +49,10 @@ void parse_webrtc(const TomlReader& r, const toml::table& t, WebRtcConfig& c) {
   if (c.gather_timeout_ms < 100 || c.gather_timeout_ms > 30000)
     r.fail(t.get("gather_timeout_ms"), "gather_timeout_ms must be 100..30000");
   r.get(t, "disconnected_timeout_s", c.disconnected_timeout_s);
-  if (c.disconnected_timeout_s < 1 || c.disconnected_timeout_s > 3600)
-    r.fail(t.get("disconnected_timeout_s"), "disconnected_timeout_s must be 1..3600");
+  // Above RTP's RTCP interval: GStreamer's WHEP clients report every 5 s (+-50 %) by default,
+  // browsers every second.
+  if (c.disconnected_timeout_s < 8 || c.disconnected_timeout_s > 3600)
+    r.fail(t.get("disconnected_timeout_s"), "disconnected_timeout_s must be 8..3600");
 }
 
 // [http]'s access keys (app/outputs/http_access.hpp): a secret that is required by the chosen

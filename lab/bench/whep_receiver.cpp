@@ -171,6 +171,16 @@ WhepReceiver::WhepReceiver(int http_port, const std::string& path) : port_(http_
   const Description remote =
       Description::adopt(gst_webrtc_session_description_new(GST_WEBRTC_SDP_TYPE_ANSWER, sdp));
   call(webrtc_.get(), "set-remote-description", remote.get(), promise);
+  // RTCP every second, as browsers send it, not RTP's 5 s minimum: the service ends a session
+  // whose client has been silent for [webrtc] disconnected_timeout_s.
+  if (auto rtpbin = gst::Element::adopt(gst_bin_get_by_name(GST_BIN(webrtc_.get()), "rtpbin"))) {
+    GObject* session = nullptr;
+    g_signal_emit_by_name(rtpbin.get(), "get-session", 0u, &session);
+    if (session) {
+      g_object_set(session, "rtcp-min-interval", guint64{GST_SECOND}, nullptr);
+      g_object_unref(session);
+    }
+  }
 }
 
 void WhepReceiver::on_pad_added(GstPad* pad) {
@@ -203,6 +213,11 @@ WhepReceiver::~WhepReceiver() {
       // the service may be gone already; the session then ends with it
     }
   }
+}
+
+void WhepReceiver::vanish() {
+  gst_element_set_state(pipeline_.get(), GST_STATE_NULL);
+  location_.clear();
 }
 
 void WhepReceiver::throw_if_ended() {

@@ -24,6 +24,10 @@ class WhepReceiver final : public FrameReceiver {
 
   std::optional<ReceivedFrame> next(std::chrono::milliseconds timeout) override;
 
+  // Stops playing without the DELETE, as a browser tab that is closed or loses its network
+  // does: the service has to notice by itself (the WebRTC output's tests).
+  void vanish();
+
   // webrtcbin's new stream pad (public for the C callback).
   void on_pad_added(GstPad* pad);
 

@@ -49,7 +49,10 @@ TEST(WebRtcChromium, PlaysTheWhepStreamAt25FramesIn2Seconds) {
   HttpServerConfig http_config;
   http_config.port = 0;
   HttpServer server(http_config);
-  auto webrtc = std::make_shared<WebRtcOutput>(WebRtcConfig{}, RtspServerConfig{});
+  // A short silence timeout: Chromium's RTCP must keep its session for the whole page.
+  WebRtcConfig config;
+  config.disconnected_timeout_s = 2;
+  auto webrtc = std::make_shared<WebRtcOutput>(config, RtspServerConfig{});
   server.set_whep(webrtc);
 
   // 30 fps of moving pictures to both outputs (the JPEG only so that a fallback to MJPEG
@@ -103,6 +106,8 @@ TEST(WebRtcChromium, PlaysTheWhepStreamAt25FramesIn2Seconds) {
   ASSERT_EQ(transport, "webrtc") << "the page fell back; DOM dump: " << dom_file;
   ASSERT_FALSE(frames_2s.empty());
   EXPECT_GE(std::stoi(frames_2s), 25);
+  // Frames for longer than the silence timeout: the session was not ended under the page.
+  EXPECT_GE(std::stoi(attribute(dom.str(), "data-frames")), 90);
   const WebRtcStats stats = webrtc->stats();
   EXPECT_EQ(stats.sessions_total, 1u);
   EXPECT_GT(stats.frames_encoded, 25u);

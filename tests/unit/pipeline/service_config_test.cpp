@@ -301,6 +301,7 @@ disconnected_timeout_s = 30
   EXPECT_THROW(parse_service_config("[webrtc]\nice_addresses = \"127.0.0.1\"\n"), ParseError);
   EXPECT_THROW(parse_service_config("[webrtc]\nmax_sessions = 0\n"), ParseError);
   EXPECT_THROW(parse_service_config("[webrtc]\ngather_timeout_ms = 5\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[webrtc]\ndisconnected_timeout_s = 2\n"), ParseError);
   EXPECT_THROW(parse_service_config("[webrtc]\nstun = \"stun://x\"\n"), ParseError);
 }
 
