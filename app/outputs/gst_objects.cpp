@@ -40,4 +40,22 @@ ImageRGB8 rgb_image_of(GstSample* sample, const char* who) {
   return image;
 }
 
+GstBuffer* wrap_rgb_frame(std::shared_ptr<const ImageRGB8> frame) {
+  const std::size_t bytes = frame->size_bytes();
+  const int width = frame->width(), height = frame->height();
+  auto* keep = new std::shared_ptr<const ImageRGB8>(std::move(frame));
+  GstBuffer* buffer = gst_buffer_new_wrapped_full(
+      GST_MEMORY_FLAG_READONLY, const_cast<std::uint8_t*>((*keep)->data()), bytes, 0, bytes, keep,
+      [](gpointer data) { delete static_cast<std::shared_ptr<const ImageRGB8>*>(data); });
+  const int stride = width * 3;
+  if (stride % 4 != 0) {
+    gsize offset[GST_VIDEO_MAX_PLANES] = {0};
+    gint strides[GST_VIDEO_MAX_PLANES] = {stride};
+    gst_buffer_add_video_meta_full(buffer, GST_VIDEO_FRAME_FLAG_NONE, GST_VIDEO_FORMAT_RGB,
+                                   static_cast<guint>(width), static_cast<guint>(height), 1, offset,
+                                   strides);
+  }
+  return buffer;
+}
+
 }  // namespace probeless::gst

@@ -8,6 +8,7 @@
 // whether or not the element is later added to a bin (a bin takes its own reference).
 #include <gst/gst.h>
 
+#include <memory>
 #include <utility>
 
 #include "core/image.hpp"
@@ -76,5 +77,11 @@ void ensure_gstreamer();
 // row by row past GStreamer's stride; std::runtime_error naming `who` without video caps or
 // when the buffer cannot be mapped. The RTSP clients' decode (tests, `bench latency`).
 ImageRGB8 rgb_image_of(GstSample* sample, const char* who);
+
+// The frame's pixels as a new GstBuffer (transfer full) without a copy: the buffer holds a
+// reference to the frame until GStreamer is done with it, and says the rows' stride in a
+// video meta (GStreamer's default RGB stride is rounded up to 4 bytes; ours is not). The
+// RTSP and WebRTC encoders' input.
+GstBuffer* wrap_rgb_frame(std::shared_ptr<const ImageRGB8> frame);
 
 }  // namespace probeless::gst

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <csignal>
 #include <cstring>
@@ -27,6 +28,7 @@
 
 #include "app/outputs/http_server_impl.hpp"
 #include "app/outputs/viewer_page.hpp"
+#include "app/outputs/whep_offer.hpp"
 
 namespace probeless {
 namespace {
@@ -39,7 +41,29 @@ constexpr const char* kNoCache =
 // keeps sending anyway can make us buffer.
 constexpr std::size_t kStreamInputLimit = std::size_t{64} * 1024;
 
-enum class Route { Index, Stream, Snapshot, Status, State, Metrics, NotFound };
+enum class Route { Index, Stream, Snapshot, Status, State, Metrics, Whep, WhepResource, NotFound };
+
+// "" or "/name": the prefix a WHEP URL may have (mediamtx serves /<path>/whep).
+bool whep_prefix(std::string_view p) {
+  if (p.empty()) return true;
+  if (p.front() != '/' || p.size() == 1) return false;
+  return std::all_of(p.begin() + 1, p.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-';
+  });
+}
+
+Route whep_route(std::string_view path) {
+  constexpr std::string_view kWhep = "/whep";
+  if (path.size() >= kWhep.size() && path.substr(path.size() - kWhep.size()) == kWhep)
+    return whep_prefix(path.substr(0, path.size() - kWhep.size())) ? Route::Whep : Route::NotFound;
+  const auto slash = path.rfind('/');
+  const std::string_view id = path.substr(slash + 1);
+  if (slash == std::string_view::npos || id.empty() || id.size() > 64 ||
+      !std::all_of(id.begin(), id.end(),
+                   [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); }))
+    return Route::NotFound;
+  return whep_route(path.substr(0, slash)) == Route::Whep ? Route::WhepResource : Route::NotFound;
+}
 
 Route route_for(std::string_view path, const char* query) {
   if (path == "/stream") return Route::Stream;
@@ -47,7 +71,7 @@ Route route_for(std::string_view path, const char* query) {
   if (path == "/status") return Route::Status;
   if (path == "/state") return Route::State;
   if (path == "/metrics") return Route::Metrics;
-  if (path != "/") return Route::NotFound;
+  if (path != "/") return whep_route(path);
   if (query == nullptr || *query == '\0') return Route::Index;
   // mjpg-streamer's URLs: /?action=stream, /?action=snapshot.
   evkeyvalq params{};
@@ -121,6 +145,9 @@ void on_accept_error_cb(evconnlistener* listener, void*) {
 void on_resume_accept_cb(evutil_socket_t, short, void* arg) {
   evconnlistener_enable(static_cast<HttpServer::Impl*>(arg)->listener);
 }
+void on_whep_done_cb(evutil_socket_t, short, void* arg) {
+  static_cast<HttpServer::Impl*>(arg)->on_whep_done();
+}
 void on_stop_cb(evutil_socket_t, short, void* arg) {
   event_base_loopbreak(static_cast<HttpServer::Impl*>(arg)->base);
 }
@@ -182,7 +209,8 @@ void HttpServer::Impl::setup() {
                                        EVHTTP_REQ_TRACE | EVHTTP_REQ_CONNECT | EVHTTP_REQ_PATCH);
   evhttp_set_timeout(http, static_cast<int>(config.request_timeout.count()));
   evhttp_set_max_headers_size(http, ev_ssize_t{16} * 1024);
-  evhttp_set_max_body_size(http, ev_ssize_t{16} * 1024);
+  // Only a WHEP offer has a body: a larger Content-Length gets 413 before it is read.
+  evhttp_set_max_body_size(http, static_cast<ev_ssize_t>(kMaxWhepOfferBytes));
   evhttp_set_gencb(http, on_request_cb, this);
   connections = std::make_unique<HttpConnections>(
       base, http,
@@ -193,7 +221,13 @@ void HttpServer::Impl::setup() {
   frame_event = event_new(base, -1, 0, on_frame_cb, this);
   stop_event = event_new(base, -1, 0, on_stop_cb, this);
   resume_accept_event = evtimer_new(base, on_resume_accept_cb, this);
-  if (frame_event == nullptr || stop_event == nullptr || resume_accept_event == nullptr) {
+  whep_event = event_new(base, -1, 0, on_whep_done_cb, this);
+  {
+    std::lock_guard lock(whep_mailbox->mutex);
+    whep_mailbox->wake = whep_event;
+  }
+  if (frame_event == nullptr || stop_event == nullptr || resume_accept_event == nullptr ||
+      whep_event == nullptr) {
     throw HttpServerError("HTTP: cannot create events");
   }
 }
@@ -219,15 +253,17 @@ void HttpServer::Impl::teardown() {
     std::lock_guard lock(g_listeners_mutex);
     g_listeners.erase(listener);
   }
+  drop_pending_whep();
   if (http) evhttp_free(http);
   connections.reset();  // after evhttp's connections, before the base
   if (frame_event) event_free(frame_event);
   if (stop_event) event_free(stop_event);
   if (resume_accept_event) event_free(resume_accept_event);
+  if (whep_event) event_free(whep_event);
   if (base) event_base_free(base);
   http = nullptr;
   listener = nullptr;
-  frame_event = stop_event = resume_accept_event = nullptr;
+  frame_event = stop_event = resume_accept_event = whep_event = nullptr;
   base = nullptr;
 }
 
@@ -279,6 +315,10 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
     send_text(req, HTTP_NOTFOUND, "Not Found", "not found: " + std::string(p) + "\n");
     return;
   }
+  if (route == Route::Whep || route == Route::WhepResource) {
+    serve_whep(req, route == Route::WhepResource, p);
+    return;
+  }
   const evhttp_cmd_type method = evhttp_request_get_command(req);
   if (method == EVHTTP_REQ_OPTIONS) {
     serve_options(req);
@@ -313,6 +353,8 @@ void HttpServer::Impl::on_request(evhttp_request* req) {
       evbuffer_free(body);
       return;
     }
+    case Route::Whep:
+    case Route::WhepResource:
     case Route::NotFound:
       return;
   }

@@ -8,7 +8,8 @@
 //   GET /status    JSON: the service's status callback plus this server's counters
 //   GET /state     ustreamer's JSON (app/outputs/http_compat.hpp)
 //   GET /metrics   /status in Prometheus' text format (app/outputs/http_metrics.hpp)
-//   GET /          a self-contained viewer page (the stream and the status table)
+//   GET /          a self-contained viewer page (WebRTC or the stream, the status table)
+//   POST /whep     WHEP: an SDP offer in, the answer out (also /<path>/whep; DELETE ends it)
 //
 // HEAD answers any of them without the body, OPTIONS with what is allowed (ustreamer's).
 //
@@ -29,6 +30,7 @@
 
 #include "app/outputs/http_access.hpp"
 #include "app/outputs/output.hpp"
+#include "app/outputs/whep_endpoint.hpp"
 #include "core/time.hpp"
 
 namespace probeless {
@@ -135,6 +137,9 @@ class HttpServer final : public Output {
   }
 
   HttpServerStats stats() const;
+
+  // Where POST /whep offers go (the WebRTC output); null: /whep answers 404. Any thread.
+  void set_whep(std::shared_ptr<WhepEndpoint> endpoint);
 
   // The event loop beats "http" every 250 ms from a timer of its own (issue #20 item 6).
   void watch(HeartbeatRegistry& heartbeats) override;

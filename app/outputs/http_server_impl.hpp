@@ -10,6 +10,7 @@
 #include <deque>
 #include <functional>
 #include <list>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -20,6 +21,7 @@
 #include "app/outputs/http_compat.hpp"
 #include "app/outputs/http_connections.hpp"
 #include "app/outputs/http_server.hpp"
+#include "app/outputs/whep_endpoint.hpp"
 #include "app/service/heartbeat.hpp"
 #include "base/latest_frame.hpp"
 #include "base/stage_stats.hpp"
@@ -66,6 +68,22 @@ struct StreamClient {
   std::deque<std::pair<std::uint64_t, TimestampNs>> queued_parts;
 };
 
+// A WHEP answer in the making: the request waits for the WebRTC output's callback.
+struct PendingWhep {
+  HttpServer::Impl* server = nullptr;
+  std::uint64_t key = 0;
+  evhttp_request* request = nullptr;  // null once its connection has closed
+  std::string location_base;          // the POST's path: Location is it + "/" + session id
+};
+
+// Where the WebRTC output's callbacks leave answers; shared with them, so a callback that
+// comes after the server stopped finds `wake` null and drops its answer.
+struct WhepMailbox {
+  std::mutex mutex;
+  event* wake = nullptr;
+  std::vector<std::pair<std::uint64_t, WhepAnswer>> done;
+};
+
 struct HttpServer::Impl {
   HttpServerConfig config;
   StatusCallback status;
@@ -102,6 +120,14 @@ struct HttpServer::Impl {
   std::uint64_t bytes_dropped = 0;         // queued to clients that closed before taking it
   Heartbeat heartbeat;                     // beaten on the server thread by watch()'s timer
 
+  // WHEP (http_whep.cpp): the endpoint, set after start; answers pending on the server thread.
+  std::mutex whep_mutex;
+  std::shared_ptr<WhepEndpoint> whep;
+  std::shared_ptr<WhepMailbox> whep_mailbox = std::make_shared<WhepMailbox>();
+  event* whep_event = nullptr;
+  std::map<std::uint64_t, std::unique_ptr<PendingWhep>> whep_pending;
+  std::uint64_t next_whep = 0;
+
   void setup();
   void teardown();
   void on_request(evhttp_request* req);
@@ -114,6 +140,13 @@ struct HttpServer::Impl {
   void serve_state(evhttp_request* req);
   void serve_metrics(evhttp_request* req);
   void serve_options(evhttp_request* req);
+  // `resource`: a session's URL (DELETE), else the endpoint (POST); `path` as requested.
+  void serve_whep(evhttp_request* req, bool resource, std::string_view path);
+  void set_whep(std::shared_ptr<WhepEndpoint> endpoint);
+  std::shared_ptr<WhepEndpoint> whep_endpoint();
+  void on_whep_done();
+  void whep_connection_closed(PendingWhep& pending);
+  void drop_pending_whep();  // teardown: the requests freed, late answers dropped
   void add_frame_headers(evhttp_request* req);
   // What ustreamer reports of the source: live (a frame that is not a NO SIGNAL repeat) and
   // the size shown (the placeholder's before the first frame).

@@ -55,7 +55,9 @@ constexpr RequiredElement kRequired[] = {{"appsrc", "gstreamer1.0-plugins-base"}
                                          {"videoconvert", "gstreamer1.0-plugins-base"},
                                          {"rtph264pay", "gstreamer1.0-plugins-good"}};
 
-std::string encoder_launch(const std::string& encoder, const RtspServerConfig& c) {
+}  // namespace
+
+std::string h264_encoder_launch(const std::string& encoder, const RtspServerConfig& c) {
   if (encoder == "v4l2h264enc")  // the V4L2 controls' own names (v4l2-ctl --list-ctrls)
     return fmt::format(
         "v4l2h264enc extra-controls=\"controls,video_bitrate={},"
@@ -66,6 +68,8 @@ std::string encoder_launch(const std::string& encoder, const RtspServerConfig& c
   return fmt::format("x264enc tune=zerolatency speed-preset=ultrafast bitrate={} key-int-max={}",
                      c.bitrate_kbps, c.keyframe_interval);
 }
+
+namespace {
 
 // What the media-factory callbacks and push() share; the callbacks hold it through a
 // shared_ptr of their own, so a media thread finishing late never sees a freed server.
@@ -109,12 +113,6 @@ void on_media_configure(GstRTSPMediaFactory*, GstRTSPMedia* media, gpointer data
   ref->appsrc = std::move(src);
   ref->width = ref->height = 0;  // caps are set with the next frame
   ref->last_pts = GST_CLOCK_TIME_NONE;
-}
-
-// The pipeline's frame lives in a shared_ptr; the buffer keeps a copy of it until the
-// encoder is done, so no pixel is copied on the way in.
-void release_frame(gpointer data) {
-  delete static_cast<std::shared_ptr<const ImageRGB8>*>(data);
 }
 
 gboolean quit_loop(gpointer loop) {
@@ -220,7 +218,7 @@ RtspServer::RtspServer(RtspServerConfig config) : impl_(std::make_unique<Impl>()
       "( appsrc name=src is-live=true format=time do-timestamp=false block=false "
       "! videoconvert ! video/x-raw,format=I420 ! {} "
       "! rtph264pay name=pay0 pt=96 config-interval=-1 )",
-      encoder_launch(m.encoder, c));
+      h264_encoder_launch(m.encoder, c));
   m.factory = MediaFactory::adopt(gst_rtsp_media_factory_new());
   gst_rtsp_media_factory_set_launch(m.factory.get(), launch.c_str());
   gst_rtsp_media_factory_set_shared(m.factory.get(), TRUE);
@@ -329,18 +327,7 @@ void RtspServer::push(std::shared_ptr<const ImageRGB8> frame, TimestampNs captur
   }
   feed.last_pts = pts;
 
-  auto* keep = new std::shared_ptr<const ImageRGB8>(std::move(frame));
-  GstBuffer* buffer = gst_buffer_new_wrapped_full(GST_MEMORY_FLAG_READONLY,
-                                                  const_cast<std::uint8_t*>((*keep)->data()),
-                                                  frame_bytes, 0, frame_bytes, keep, release_frame);
-  const int stride = feed.width * 3;
-  if (stride % 4 != 0) {  // GStreamer's default RGB stride is rounded up to 4 bytes; ours is not
-    gsize offset[GST_VIDEO_MAX_PLANES] = {0};
-    gint strides[GST_VIDEO_MAX_PLANES] = {stride};
-    gst_buffer_add_video_meta_full(buffer, GST_VIDEO_FRAME_FLAG_NONE, GST_VIDEO_FORMAT_RGB,
-                                   static_cast<guint>(feed.width), static_cast<guint>(feed.height),
-                                   1, offset, strides);
-  }
+  GstBuffer* buffer = gst::wrap_rgb_frame(std::move(frame));
   GST_BUFFER_PTS(buffer) = pts;
   if (gst_app_src_push_buffer(GST_APP_SRC(src), buffer) == GST_FLOW_OK)
     ++feed.sent;

@@ -72,6 +72,10 @@ struct RtspServerError : std::runtime_error {
 // RtspServerError naming the Debian package to install when the wanted one is missing.
 std::string choose_h264_encoder(const std::string& wanted);
 
+// The encoder's gst-launch description with the config's bitrate and keyframe interval (the
+// WebRTC output's encoder is the same, app/outputs/webrtc_output.hpp).
+std::string h264_encoder_launch(const std::string& encoder, const RtspServerConfig& config);
+
 // Throws RtspServerError for a mount path gst-rtsp-server would not serve as written.
 void check_rtsp_path(const std::string& path);
 

@@ -17,7 +17,8 @@ constexpr std::string_view kPage = R"html(<!DOCTYPE html>
   body { margin: 0; background: #111; color: #ddd; font: 14px/1.4 system-ui, sans-serif; }
   header { padding: 6px 12px; background: #222; font-weight: 600; }
   main { display: flex; flex-wrap: wrap; gap: 12px; padding: 12px; align-items: flex-start; }
-  #view { max-width: 100%; background: #000; min-width: 320px; min-height: 240px; }
+  #view, #video { max-width: 100%; background: #000; min-width: 320px; min-height: 240px; }
+  #transport { font-weight: 400; color: #9ab; margin-left: 12px; }
   table { border-collapse: collapse; min-width: 260px; }
   td { padding: 2px 8px; border-bottom: 1px solid #333; vertical-align: top; }
   td:first-child { color: #9ab; white-space: nowrap; }
@@ -27,9 +28,10 @@ constexpr std::string_view kPage = R"html(<!DOCTYPE html>
 </style>
 </head>
 <body>
-<header>probeless</header>
+<header>probeless<span id="transport"></span></header>
 <main>
-  <img id="view" src="/stream" alt="live view">
+  <video id="video" muted autoplay playsinline hidden></video>
+  <img id="view" alt="live view" hidden>
   <table id="status"><tbody><tr><td>status</td><td>waiting</td></tr></tbody></table>
 </main>
 <div id="error"></div>
@@ -105,10 +107,106 @@ async function poll() {
     error.textContent = "status: " + e.message;
   }
 }
+// The picture: WebRTC through WHEP (H.264, a tenth of MJPEG's bandwidth) when the appliance
+// offers it, else the MJPEG stream. No STUN/TURN: the appliance's ICE host candidates are on
+// addresses it was configured to use ([webrtc] ice_addresses). The offer is sent once ICE
+// gathering is done (no trickle, which the server does not take). Frames decoded are counted
+// on <body> (data-frames, and data-frames2s: the two seconds after the first), for anyone
+// wondering whether WebRTC plays, and posted to an embedding page (the Chromium test's).
+const video = document.getElementById("video");
+const transport = document.getElementById("transport");
+let mjpeg = false;
+let whepResource = null;
+function report() {
+  if (window.parent !== window) window.parent.postMessage(Object.assign({}, document.body.dataset), "*");
+}
+function showMjpeg(reason) {
+  transport.textContent = "MJPEG" + (reason ? " (WebRTC: " + reason + ")" : "");
+  document.body.dataset.transport = "mjpeg";
+  video.hidden = true;
+  view.hidden = false;
+  if (!mjpeg) view.src = "/stream";
+  mjpeg = true;
+  report();
+}
 // The service restarting ends the stream: reconnect instead of showing a broken image.
 view.addEventListener("error", () => {
-  setTimeout(() => { view.src = "/stream?t=" + Date.now(); }, 1000);
+  if (mjpeg) setTimeout(() => { view.src = "/stream?t=" + Date.now(); }, 1000);
 });
+function countFrames() {
+  let frames = 0, first = 0;
+  const tick = (now) => {
+    frames += 1;
+    if (!first) first = now;
+    document.body.dataset.frames = frames;
+    if (now - first <= 2000) document.body.dataset.frames2s = frames;
+    report();
+    video.requestVideoFrameCallback(tick);
+  };
+  if ("requestVideoFrameCallback" in video) video.requestVideoFrameCallback(tick);
+}
+function gathered(pc, ms) {
+  return new Promise((resolve) => {
+    if (pc.iceGatheringState === "complete") return resolve();
+    const done = () => { if (pc.iceGatheringState === "complete") resolve(); };
+    pc.addEventListener("icegatheringstatechange", done);
+    setTimeout(resolve, ms);
+  });
+}
+async function playWebRtc() {
+  const pc = new RTCPeerConnection();
+  pc.addTransceiver("video", {direction: "recvonly"});
+  const firstFrame = new Promise((resolve) => {
+    pc.ontrack = (e) => {
+      video.srcObject = e.streams[0] || new MediaStream([e.track]);
+      video.addEventListener("loadeddata", resolve, {once: true});
+    };
+  });
+  await pc.setLocalDescription(await pc.createOffer());
+  await gathered(pc, 1000);
+  const r = await fetch("/whep", {method: "POST", headers: {"Content-Type": "application/sdp"},
+                                  body: pc.localDescription.sdp});
+  const text = await r.text();
+  if (r.status !== 201) { pc.close(); throw new Error("HTTP " + r.status + " " + text.trim()); }
+  whepResource = new URL(r.headers.get("Location"), location.href).href;
+  await pc.setRemoteDescription({type: "answer", sdp: text});
+  const timeout = new Promise((_, reject) => setTimeout(() => reject(new Error("no frame in 5 s")), 5000));
+  try {
+    await Promise.race([firstFrame, timeout]);
+  } catch (e) {
+    pc.close();
+    stopWhep();
+    throw e;
+  }
+  pc.addEventListener("connectionstatechange", () => {
+    if (pc.connectionState === "failed" || pc.connectionState === "closed") {
+      pc.close();
+      stopWhep();
+      start();  // the service restarted, or the network moved: negotiate again
+    }
+  });
+  transport.textContent = "WebRTC";
+  document.body.dataset.transport = "webrtc";
+  report();
+  view.hidden = true;
+  video.hidden = false;
+  video.play().catch(() => {});
+}
+function stopWhep() {
+  if (whepResource) fetch(whepResource, {method: "DELETE", keepalive: true}).catch(() => {});
+  whepResource = null;
+}
+async function start() {
+  if (!("RTCPeerConnection" in window)) return showMjpeg("not in this browser");
+  try {
+    await playWebRtc();
+  } catch (e) {
+    showMjpeg(e.message);
+  }
+}
+window.addEventListener("pagehide", stopWhep);
+countFrames();
+start();
 poll();
 setInterval(poll, 1000);
 </script>

@@ -15,6 +15,10 @@ std::unique_ptr<Output> make_output(std::string_view name, const ServiceConfig& 
     if (!config.rtsp.enabled) return nullptr;
     return std::make_unique<RtspServer>(config.rtsp);
   }
+  if (name == "webrtc") {  // throws WebRtcError: a plugin or the encoder missing
+    if (!config.webrtc.enabled) return nullptr;
+    return std::make_unique<WebRtcOutput>(config.webrtc, config.rtsp);
+  }
   if (name == "files") {  // throws filesystem_error: the directory cannot be made
     if (config.files.dir.empty()) return nullptr;
     return std::make_unique<FileOutput>(config.files);

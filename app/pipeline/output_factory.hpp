@@ -9,7 +9,7 @@
 namespace probeless {
 
 // The names make_output() knows, in the order the pipeline builds them.
-inline constexpr std::string_view kOutputNames[] = {"http", "rtsp", "files", "display"};
+inline constexpr std::string_view kOutputNames[] = {"http", "rtsp", "webrtc", "files", "display"};
 
 // The output called `name` (one of kOutputNames) from its part of the service config, or
 // null when that part is off; `status` is what the HTTP server serves on GET /status.

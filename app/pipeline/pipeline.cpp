@@ -94,7 +94,7 @@ void Pipeline::start() {
 
 void Pipeline::open_outputs() {
   for (const std::string_view name : kOutputNames) {
-    if (!options_.serve_http && (name == "http" || name == "rtsp")) continue;
+    if (!options_.serve_http && (name == "http" || name == "rtsp" || name == "webrtc")) continue;
     if (auto output = make_output(name, config_, [this] { return status(); })) {
       std::lock_guard lock(outputs_mutex_);
       outputs_.push_back(std::move(output));
@@ -103,6 +103,14 @@ void Pipeline::open_outputs() {
   std::lock_guard lock(outputs_mutex_);
   for (const auto& output : options_.outputs)
     if (output) outputs_.push_back(output);
+  // WHEP offers reach the WebRTC output through the HTTP server.
+  std::shared_ptr<HttpServer> http;
+  std::shared_ptr<WebRtcOutput> webrtc;
+  for (const auto& output : outputs_) {
+    if (auto h = std::dynamic_pointer_cast<HttpServer>(output)) http = h;
+    if (auto w = std::dynamic_pointer_cast<WebRtcOutput>(output)) webrtc = w;
+  }
+  if (http && webrtc) http->set_whep(webrtc);
   for (const auto& output : outputs_) {
     output->watch(heartbeats_);  // the HTTP and RTSP loops beat from a timer of their own
     const OutputNeeds n = output->needs();

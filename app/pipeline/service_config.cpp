@@ -1,5 +1,6 @@
 #include "app/pipeline/service_config.hpp"
 
+#include <arpa/inet.h>
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -18,6 +19,41 @@
 
 namespace probeless {
 namespace {
+
+bool is_ip_literal(const std::string& text) {
+  unsigned char buf[16];
+  return inet_pton(AF_INET, text.c_str(), buf) == 1 || inet_pton(AF_INET6, text.c_str(), buf) == 1;
+}
+
+// [webrtc] (app/outputs/webrtc_output.hpp).
+void parse_webrtc(const TomlReader& r, const toml::table& t, WebRtcConfig& c) {
+  r.only(
+      t, "[webrtc]",
+      {"enabled", "ice_addresses", "max_sessions", "gather_timeout_ms", "disconnected_timeout_s"});
+  r.get(t, "enabled", c.enabled);
+  if (const toml::node* list = t.get("ice_addresses")) {
+    const auto* arr = list->as_array();
+    if (!arr) r.fail(list, "ice_addresses: expected an array of IP addresses");
+    c.ice_addresses.clear();
+    for (const auto& item : *arr) {
+      const auto* text = item.as_string();
+      if (!text || !is_ip_literal(text->get()))
+        r.fail(&item, "ice_addresses: expected IP addresses such as \"127.0.0.1\" or \"::1\"");
+      c.ice_addresses.push_back(text->get());
+    }
+  }
+  r.get(t, "max_sessions", c.max_sessions);
+  if (c.max_sessions < 1 || c.max_sessions > 64)
+    r.fail(t.get("max_sessions"), "max_sessions must be 1..64");
+  r.get(t, "gather_timeout_ms", c.gather_timeout_ms);
+  if (c.gather_timeout_ms < 100 || c.gather_timeout_ms > 30000)
+    r.fail(t.get("gather_timeout_ms"), "gather_timeout_ms must be 100..30000");
+  r.get(t, "disconnected_timeout_s", c.disconnected_timeout_s);
+  // Above RTP's RTCP interval: GStreamer's WHEP clients report every 5 s (+-50 %) by default,
+  // browsers every second.
+  if (c.disconnected_timeout_s < 8 || c.disconnected_timeout_s > 3600)
+    r.fail(t.get("disconnected_timeout_s"), "disconnected_timeout_s must be 8..3600");
+}
 
 // [http]'s access keys (app/outputs/http_access.hpp): a secret that is required by the chosen
 // scheme but empty is an error, not an open door.
@@ -108,7 +144,7 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   ServiceConfig c;
   r.only(root, "the top level",
          {"source", "object", "ground", "occlusion", "http", "output", "opencl", "pipeline",
-          "bracket", "light", "display", "rtsp", "board", "about", "tracking", "world"});
+          "bracket", "light", "display", "rtsp", "webrtc", "board", "about", "tracking", "world"});
   r.get(root, "board", c.board);
   if (auto* t = r.optional_table(root, "about")) {
     r.only(*t, "[about]", {"name", "summary"});
@@ -248,6 +284,7 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
     if (!encoders.contains(c.rtsp.encoder))
       r.fail(t->get("encoder"), "encoder must be \"auto\", \"v4l2h264enc\" or \"x264enc\"");
   }
+  if (auto* t = r.optional_table(root, "webrtc")) parse_webrtc(r, *t, c.webrtc);
   if (auto* t = r.optional_table(root, "output")) {
     r.only(*t, "[output]", {"dir", "format", "matte", "max_mb", "keep_minutes", "when_full"});
     std::string dir = c.files.dir.string();

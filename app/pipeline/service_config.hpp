@@ -13,6 +13,7 @@
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/kms_display.hpp"
 #include "app/outputs/rtsp_server.hpp"
+#include "app/outputs/webrtc_output.hpp"
 #include "app/world/world_config.hpp"
 #include "core/beyond_range.hpp"
 #include "drivers/bracket/bracket_sequencer.hpp"
@@ -90,6 +91,9 @@ struct ServiceConfig {
   HttpServerConfig http;  // [http]: the MJPEG stream, the viewer and /status
   // [rtsp]: H.264 over RTSP beside the MJPEG (docs/outputs.md "RTSP"), off by default.
   RtspServerConfig rtsp;
+  // [webrtc]: H.264 over WebRTC, negotiated by WHEP on the HTTP server (docs/outputs.md
+  // "WebRTC (WHEP)"), off by default; its encoder takes [rtsp]'s encoder settings.
+  WebRtcConfig webrtc;
   FileOutputConfig files;  // [output]: the image sequence; no dir, no files
   // [display]: the tethered screen, EGL on GBM + KMS (docs/display.md), off by default.
   KmsDisplayConfig display;

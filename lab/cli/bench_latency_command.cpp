@@ -22,11 +22,13 @@
 #include <thread>
 #include <variant>
 
+#include "app/outputs/webrtc_output.hpp"
 #include "base/stage_stats.hpp"
 #include "core/capture_stamp.hpp"
 #include "lab/bench/mjpeg_receiver.hpp"
 #include "lab/bench/rtsp_receiver.hpp"
 #include "lab/bench/service_under_test.hpp"
+#include "lab/bench/whep_receiver.hpp"
 #include "lab/cli/lab_commands.hpp"
 
 namespace probeless::cli {
@@ -60,10 +62,12 @@ std::string source_spec(const BenchLatencyOptions& o) {
 struct ServiceEndpoints {
   int http_port = 0;
   std::string rtsp_url;  // empty: RTSP off
+  bool whep = false;     // the service has its WebRTC output behind /whep
+  std::string whep_off;  // why not, when it has not
 };
 
 // One output path: its receiver, or why it cannot be measured (reported as "skipped").
-// A new output (WebRTC/WHEP) is one more entry in latency_paths().
+// A new output is one more entry in latency_paths().
 using OpenedReceiver = std::variant<std::unique_ptr<lab::FrameReceiver>, std::string>;
 struct LatencyPath {
   std::string name;
@@ -82,8 +86,9 @@ std::vector<LatencyPath> latency_paths() {
          return std::make_unique<lab::RtspReceiver>(s.rtsp_url);
        }},
       {"webrtc",
-       [](const ServiceEndpoints&) -> OpenedReceiver {
-         return std::string("no WHEP output yet (issue #22 item 1)");
+       [](const ServiceEndpoints& s) -> OpenedReceiver {
+         if (!s.whep) return s.whep_off;
+         return std::make_unique<lab::WhepReceiver>(s.http_port);
        }},
   };
 }
@@ -152,13 +157,19 @@ std::array<double, 3> load_average() {
 void run_bench(const BenchLatencyOptions& o) {
   const auto config = std::filesystem::temp_directory_path() /
                       fmt::format("probeless-bench-latency-{}.toml", getpid());
-  std::ofstream(config) << "[rtsp]\nenabled = true\nport = 0\n";
+  // WebRTC only where GStreamer has it: without, the service would not start at all.
+  const std::string webrtc_missing = webrtc_missing_plugins();
+  std::ofstream(config) << "[rtsp]\nenabled = true\nport = 0\n"
+                        << (webrtc_missing.empty() ? "[webrtc]\nenabled = true\n" : "");
   const std::string source = source_spec(o);
   lab::ServiceUnderTest service({"--source", source, "--config", config.string()});
   std::filesystem::remove(config);
-  ServiceEndpoints endpoints{service.port(), {}};
+  ServiceEndpoints endpoints;
+  endpoints.http_port = service.port();
   if (const auto s = service.status(); s.contains("rtsp"))
     endpoints.rtsp_url = s["rtsp"].value("url", "");
+  endpoints.whep = webrtc_missing.empty();
+  endpoints.whep_off = "no WebRTC in this GStreamer: " + webrtc_missing;
   std::cout << fmt::format("bench latency: service pid {} on {}, http port {}, {}\n", service.pid(),
                            source, endpoints.http_port,
                            endpoints.rtsp_url.empty() ? "no RTSP" : endpoints.rtsp_url)

@@ -238,7 +238,10 @@ TEST(HttpServer, ServesTheViewerPage) {
   const auto r = http_get(server.port(), "/");
   ASSERT_EQ(r.head.status, 200);
   EXPECT_EQ(r.head.get("content-type"), "text/html; charset=utf-8");
-  EXPECT_NE(r.body.find("<img id=\"view\" src=\"/stream\""), std::string::npos);
+  // WebRTC through WHEP first, the MJPEG stream as the fallback (viewer_page.cpp).
+  EXPECT_NE(r.body.find("<img id=\"view\""), std::string::npos);
+  EXPECT_NE(r.body.find("view.src = \"/stream\""), std::string::npos);
+  EXPECT_NE(r.body.find("fetch(\"/whep\""), std::string::npos);
   EXPECT_NE(r.body.find("fetch(\"/status\""), std::string::npos);
   EXPECT_EQ(r.body.find("http://"), std::string::npos);  // no external assets
   EXPECT_EQ(r.body.find("https://"), std::string::npos);

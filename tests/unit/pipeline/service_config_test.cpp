@@ -292,6 +292,33 @@ encoder = "x264enc"
   }
 }
 
+// [webrtc]: off by default, loopback ICE by default, every key parsed, bad values named.
+TEST(ServiceConfig, WebRtcSection) {
+  const ServiceConfig d = parse_service_config("");
+  EXPECT_FALSE(d.webrtc.enabled);
+  EXPECT_EQ(d.webrtc.ice_addresses, std::vector<std::string>{"127.0.0.1"});
+  EXPECT_EQ(d.webrtc.max_sessions, 8);
+  const ServiceConfig c = parse_service_config(R"([webrtc]
+enabled = true
+ice_addresses = ["192.168.1.20", "::1"]
+max_sessions = 2
+gather_timeout_ms = 500
+disconnected_timeout_s = 30
+)");
+  EXPECT_TRUE(c.webrtc.enabled);
+  EXPECT_EQ(c.webrtc.ice_addresses, (std::vector<std::string>{"192.168.1.20", "::1"}));
+  EXPECT_EQ(c.webrtc.max_sessions, 2);
+  EXPECT_EQ(c.webrtc.gather_timeout_ms, 500);
+  EXPECT_EQ(c.webrtc.disconnected_timeout_s, 30);
+  EXPECT_TRUE(parse_service_config("[webrtc]\nice_addresses = []\n").webrtc.ice_addresses.empty());
+  EXPECT_THROW(parse_service_config("[webrtc]\nice_addresses = [\"box.local\"]\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[webrtc]\nice_addresses = \"127.0.0.1\"\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[webrtc]\nmax_sessions = 0\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[webrtc]\ngather_timeout_ms = 5\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[webrtc]\ndisconnected_timeout_s = 2\n"), ParseError);
+  EXPECT_THROW(parse_service_config("[webrtc]\nstun = \"stun://x\"\n"), ParseError);
+}
+
 }  // namespace
 }  // namespace probeless
 
