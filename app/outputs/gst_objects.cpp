@@ -24,6 +24,22 @@ void ensure_gstreamer() {
   if (!failure.empty()) throw std::runtime_error(failure);
 }
 
+void throw_if_ended(GstElement* pipeline, const char* who) {
+  const auto bus = Bus::adopt(gst_element_get_bus(pipeline));
+  GstMessage* msg = gst_bus_pop_filtered(
+      bus.get(), static_cast<GstMessageType>(GST_MESSAGE_ERROR | GST_MESSAGE_EOS));
+  if (!msg) return;
+  std::string what = "the stream ended";
+  if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_ERROR) {
+    GError* raw = nullptr;
+    gst_message_parse_error(msg, &raw, nullptr);
+    const std::unique_ptr<GError, ErrorDeleter> error(raw);
+    what = error ? error->message : "an error";
+  }
+  gst_message_unref(msg);
+  throw std::runtime_error(std::string(who) + ": " + what);
+}
+
 ImageRGB8 rgb_image_of(GstSample* sample, const char* who) {
   GstVideoInfo info;
   if (!gst_video_info_from_caps(&info, gst_sample_get_caps(sample)))

@@ -78,6 +78,11 @@ void ensure_gstreamer();
 // when the buffer cannot be mapped. The RTSP clients' decode (tests, `bench latency`).
 ImageRGB8 rgb_image_of(GstSample* sample, const char* who);
 
+// Throws std::runtime_error("<who>: <reason>") when `pipeline`'s bus holds an error or the end
+// of the stream (taking that message off the bus); returns otherwise. For the lab's receivers,
+// which poll rather than run a main loop.
+void throw_if_ended(GstElement* pipeline, const char* who);
+
 // The frame's pixels as a new GstBuffer (transfer full) without a copy: the buffer holds a
 // reference to the frame until GStreamer is done with it, and says the rows' stride in a
 // video meta (GStreamer's default RGB stride is rounded up to 4 bytes; ours is not). The

@@ -221,19 +221,7 @@ void WhepReceiver::vanish() {
 }
 
 void WhepReceiver::throw_if_ended() {
-  const auto bus = gst::Bus::adopt(gst_element_get_bus(pipeline_.get()));
-  GstMessage* msg = gst_bus_pop_filtered(
-      bus.get(), static_cast<GstMessageType>(GST_MESSAGE_ERROR | GST_MESSAGE_EOS));
-  if (!msg) return;
-  std::string what = "the stream ended";
-  if (GST_MESSAGE_TYPE(msg) == GST_MESSAGE_ERROR) {
-    GError* raw = nullptr;
-    gst_message_parse_error(msg, &raw, nullptr);
-    const std::unique_ptr<GError, gst::ErrorDeleter> error(raw);
-    what = error ? error->message : "an error";
-  }
-  gst_message_unref(msg);
-  throw std::runtime_error("whep receiver: " + what);
+  gst::throw_if_ended(pipeline_.get(), "whep receiver");
 }
 
 std::optional<ReceivedFrame> WhepReceiver::next(std::chrono::milliseconds timeout) {

@@ -73,9 +73,7 @@ std::vector<Snapshot> run_light_stage(const MovingSceneEvalOptions& o,
   Rig rig = sim::make_sim_rig(sim_options);
   place_objects(config.objects, rig.scene);
   LightCapture capture(config, rig.calibration, rig.scene);
-  if (!capture.initialise())
-    throw std::runtime_error("eval render: light capture: " +
-                             capture.status().value("error", std::string("failed")));
+  initialise_or_throw(capture);
   const double scale = sim::fisheye_radiance_per_converted();
 
   SimLightFeed feed(rig, capture);

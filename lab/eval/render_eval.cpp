@@ -78,9 +78,7 @@ RenderEvalReport evaluate_render_sim(const RenderEvalOptions& o) {
   Rig rig = sim::make_sim_rig(sim_options);
   place_objects(config.objects, rig.scene);
   LightCapture capture(config, rig.calibration, rig.scene);
-  if (!capture.initialise())
-    throw std::runtime_error("eval render: light capture: " +
-                             capture.status().value("error", std::string("failed")));
+  initialise_or_throw(capture);
 
   // The objects as the service makes them (PRT baked or read from the cache).
   const std::vector<render::VirtualObject> objects =

@@ -111,6 +111,17 @@ namespace {
 constexpr std::chrono::milliseconds kSimTimeout{5000};
 }  // namespace
 
+namespace {
+[[noreturn]] void throw_capture_failed(const LightCapture& capture) {
+  throw std::runtime_error("eval render: light capture: " +
+                           capture.status().value("error", std::string("failed")));
+}
+}  // namespace
+
+void initialise_or_throw(LightCapture& capture) {
+  if (!capture.initialise()) throw_capture_failed(capture);
+}
+
 void SimLightFeed::read_fisheye() {
   rig_.fisheye->set_next_exposure(sequencer_.next());
   if (rig_.fisheye->read(fisheye_, kSimTimeout) != ReadResult::Frame)
@@ -132,9 +143,7 @@ bool SimLightFeed::next_rgbd() {
 void SimLightFeed::update_light() {
   sequencer_.observe(fisheye_.exposure,
                      count_exposure(fisheye_.raw, fisheye_.bit_depth, fisheye_.black_level));
-  if (!capture_.process(fisheye_))
-    throw std::runtime_error("eval render: light capture: " +
-                             capture_.status().value("error", std::string("failed")));
+  if (!capture_.process(fisheye_)) throw_capture_failed(capture_);
 }
 
 }  // namespace probeless::eval

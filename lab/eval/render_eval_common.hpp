@@ -46,6 +46,9 @@ render::VirtualObject chrome_sphere(const Eigen::Vector3d& centre);
 // about 85 % of the image.
 render::Camera sphere_camera(const Eigen::Vector3d& target, const Eigen::Vector3d& from, int size);
 
+// capture.initialise(), or std::runtime_error naming why it failed.
+void initialise_or_throw(LightCapture& capture);
+
 // The sim's light capture fed as the service feeds it, one fisheye frame a step: the bracket's
 // next exposure, the fisheye frame, every colour frame up to its time (its rig pose and colour
 // into the capture, then to `on_rgbd`), the exposure count, the light update. Throws
