@@ -74,6 +74,33 @@ TEST(UploadStage, WithoutDistortionTheFrameIsCopiedAsItIs) {
   EXPECT_EQ(host(*out.real_depth), host(frame.depth));
 }
 
+// The sensor's beyond-range holes (core/beyond_range.hpp) reach the occlusion stages filled,
+// exactly as the pass fills them, while the frame itself (which tracking reads) keeps its
+// holes; with the rule off the depth goes up as it came.
+TEST(UploadStage, BeyondRangeHolesAreFilledOnTheWayUpNotInTheFrame) {
+  PinholeIntrinsics k;
+  RgbdFrame frame = random_frame(k.width, k.height);
+  for (int y = 100; y < 300; ++y)
+    for (int x = 100; x < 400; ++x) frame.depth.at(x, y) = 0;
+  for (int y = 90; y < 310; ++y)  // the hole's rim: a wall at 4.2 m
+    for (int x = 90; x < 410; ++x)
+      if (frame.depth.at(x, y) != 0) frame.depth.at(x, y) = 4200;
+  const DepthImage as_recorded = frame.depth;
+  Layer layer = empty_layer(k.width, k.height);
+
+  UploadStage on(testing::cl_context(), PinholeCamera(k), BeyondRangeRule{});
+  DepthImage want = frame.depth;
+  BeyondRangeScratch scratch;
+  ASSERT_GT(fill_beyond_range_holes(want, BeyondRangeRule{}, scratch), 0u);
+  EXPECT_EQ(host(*on.process(frame, layer.view()).real_depth), host(want));
+  EXPECT_EQ(host(frame.depth), host(as_recorded));
+
+  BeyondRangeRule off;
+  off.far_mm = 0;
+  UploadStage plain(testing::cl_context(), PinholeCamera(k), off);
+  EXPECT_EQ(host(*plain.process(frame, layer.view()).real_depth), host(as_recorded));
+}
+
 TEST(UploadStage, AFrameOfAnotherSizeThanTheCalibrationIsAnErrorNamingBoth) {
   UploadStage stage(testing::cl_context(), PinholeCamera(PinholeIntrinsics{}));
   const RgbdFrame frame = random_frame(320, 240);
