@@ -6,12 +6,14 @@
 // GStreamer hands out *floating* references for new elements: adopt() them through
 // adopt_sink(), which sinks the floating reference so that this wrapper owns a real one
 // whether or not the element is later added to a bin (a bin takes its own reference).
+#include <gst/app/gstappsrc.h>
 #include <gst/gst.h>
 
 #include <memory>
 #include <utility>
 
 #include "core/image.hpp"
+#include "core/time.hpp"
 
 namespace probeless::gst {
 
@@ -88,5 +90,20 @@ void throw_if_ended(GstElement* pipeline, const char* who);
 // video meta (GStreamer's default RGB stride is rounded up to 4 bytes; ours is not). The
 // RTSP and WebRTC encoders' input.
 GstBuffer* wrap_rgb_frame(std::shared_ptr<const ImageRGB8> frame);
+
+// What an RGB appsrc in front of an H.264 encoder keeps between frames (RTSP, WebRTC).
+struct RgbFeed {
+  int width = 0, height = 0;
+  GstClockTime last_pts = GST_CLOCK_TIME_NONE;
+};
+enum class FeedResult { Sent, QueueFull, Refused };
+
+// Pushes `frame` into `src`: caps (RGB at the nominal `framerate`) and a queue bound of
+// `max_queued_frames` frames when its size changes; nothing when that many frames wait
+// already; its PTS the capture time on `base_time`'s clock, and a repeated frame (NO SIGNAL,
+// an old capture time) shown now. Refused: the appsrc is flushing (the pipeline going down).
+FeedResult push_rgb_frame(GstAppSrc* src, RgbFeed& feed, std::shared_ptr<const ImageRGB8> frame,
+                          TimestampNs capture_ns, GstClockTime base_time, int framerate,
+                          int max_queued_frames);
 
 }  // namespace probeless::gst

@@ -79,8 +79,7 @@ struct Feed {
   std::mutex mutex;
   Media media;          // the shared media while it is prepared (null: nobody watching)
   gst::Element appsrc;  // its source
-  int width = 0, height = 0;
-  GstClockTime last_pts = GST_CLOCK_TIME_NONE;
+  gst::RgbFeed rgb;     // what the appsrc was last given
   std::atomic<std::uint64_t> pushed{0}, sent{0}, no_client{0}, queue_full{0}, media_created{0};
 };
 using FeedRef = std::shared_ptr<Feed>;
@@ -111,8 +110,7 @@ void on_media_configure(GstRTSPMediaFactory*, GstRTSPMedia* media, gpointer data
   std::lock_guard lock(ref->mutex);
   ref->media = Media::share(media);
   ref->appsrc = std::move(src);
-  ref->width = ref->height = 0;  // caps are set with the next frame
-  ref->last_pts = GST_CLOCK_TIME_NONE;
+  ref->rgb = {};  // caps are set with the next frame
 }
 
 gboolean quit_loop(gpointer loop) {
@@ -300,39 +298,19 @@ void RtspServer::push(std::shared_ptr<const ImageRGB8> frame, TimestampNs captur
     ++feed.no_client;
     return;
   }
-  const std::size_t frame_bytes = frame->size_bytes();
-  if (frame->width() != feed.width || frame->height() != feed.height) {
-    feed.width = frame->width();
-    feed.height = frame->height();
-    // A nominal constant rate, not 0/1 ("variable"): x264 given variable-rate input holds each
-    // frame until the next one arrives (measured: push-to-decoded p50 41 ms at 30 Hz, against
-    // 3 ms with a declared rate). The PTS still say when each frame was taken.
-    auto caps = gst::Caps::adopt(gst_caps_new_simple(
-        "video/x-raw", "format", G_TYPE_STRING, "RGB", "width", G_TYPE_INT, feed.width, "height",
-        G_TYPE_INT, feed.height, "framerate", GST_TYPE_FRACTION, feed.framerate, 1, nullptr));
-    gst_app_src_set_caps(GST_APP_SRC(src), caps.get());
-    gst_app_src_set_max_bytes(GST_APP_SRC(src), frame_bytes * feed.max_queued_frames);
+  switch (gst::push_rgb_frame(GST_APP_SRC(src), feed.rgb, std::move(frame), capture_ns,
+                              gst_element_get_base_time(src), feed.framerate,
+                              feed.max_queued_frames)) {
+    case gst::FeedResult::Sent:
+      ++feed.sent;
+      break;
+    case gst::FeedResult::QueueFull:
+      ++feed.queue_full;
+      break;
+    case gst::FeedResult::Refused:  // flushing: the media is being torn down
+      ++feed.no_client;
+      break;
   }
-  if (gst_app_src_get_current_level_bytes(GST_APP_SRC(src)) >=
-      frame_bytes * feed.max_queued_frames) {
-    ++feed.queue_full;
-    return;
-  }
-  const GstClockTime base = gst_element_get_base_time(src);
-  GstClockTime pts = static_cast<GstClockTime>(capture_ns) > base ? capture_ns - base : 0;
-  if (feed.last_pts != GST_CLOCK_TIME_NONE && pts <= feed.last_pts) {
-    // A repeated frame (NO SIGNAL) carries its old capture time: it is shown now.
-    const GstClockTime now = static_cast<GstClockTime>(monotonic_now_ns()) - base;
-    pts = std::max(feed.last_pts + 1, now);
-  }
-  feed.last_pts = pts;
-
-  GstBuffer* buffer = gst::wrap_rgb_frame(std::move(frame));
-  GST_BUFFER_PTS(buffer) = pts;
-  if (gst_app_src_push_buffer(GST_APP_SRC(src), buffer) == GST_FLOW_OK)
-    ++feed.sent;
-  else  // flushing: the media is being torn down
-    ++feed.no_client;
 }
 
 void RtspServer::stop() {

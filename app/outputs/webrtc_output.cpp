@@ -85,8 +85,7 @@ struct WebRtcOutput::Impl {
   // The shared encoder; `feed_mutex` guards what push() keeps between frames.
   gst::Element pipeline, appsrc, appsink;
   std::mutex feed_mutex;
-  int width = 0, height = 0;
-  GstClockTime last_pts = GST_CLOCK_TIME_NONE;
+  gst::RgbFeed rgb;
   std::atomic<TimestampNs> last_keyframe_request{0};
 
   // Sessions: fed on the encoder's thread, made and ended on the worker.
@@ -224,31 +223,11 @@ void WebRtcOutput::push(std::shared_ptr<const ImageRGB8> frame, TimestampNs capt
   }
   std::lock_guard lock(m.feed_mutex);
   if (!m.appsrc) return;
-  auto* src = GST_APP_SRC(m.appsrc.get());
-  const std::size_t frame_bytes = frame->size_bytes();
-  if (frame->width() != m.width || frame->height() != m.height) {
-    m.width = frame->width();
-    m.height = frame->height();
-    // A declared constant rate, as for RTSP: x264 holds variable-rate frames until the next.
-    auto caps = gst::Caps::adopt(gst_caps_new_simple(
-        "video/x-raw", "format", G_TYPE_STRING, "RGB", "width", G_TYPE_INT, m.width, "height",
-        G_TYPE_INT, m.height, "framerate", GST_TYPE_FRACTION, m.h264.framerate, 1, nullptr));
-    gst_app_src_set_caps(src, caps.get());
-  }
-  if (gst_app_src_get_current_level_bytes(src) >= frame_bytes * m.config.max_queued_frames) {
-    ++m.queue_full;
-    return;
-  }
-  const GstClockTime base = gst_element_get_base_time(m.pipeline.get());
-  GstClockTime pts = static_cast<GstClockTime>(capture_ns) > base ? capture_ns - base : 0;
-  if (m.last_pts != GST_CLOCK_TIME_NONE && pts <= m.last_pts) {  // a NO SIGNAL repeat
-    const GstClockTime now = static_cast<GstClockTime>(monotonic_now_ns()) - base;
-    pts = std::max(m.last_pts + 1, now);
-  }
-  m.last_pts = pts;
-  GstBuffer* buffer = gst::wrap_rgb_frame(std::move(frame));
-  GST_BUFFER_PTS(buffer) = pts;
-  if (gst_app_src_push_buffer(src, buffer) != GST_FLOW_OK) ++m.no_client;
+  const gst::FeedResult fed = gst::push_rgb_frame(
+      GST_APP_SRC(m.appsrc.get()), m.rgb, std::move(frame), capture_ns,
+      gst_element_get_base_time(m.pipeline.get()), m.h264.framerate, m.config.max_queued_frames);
+  if (fed == gst::FeedResult::QueueFull) ++m.queue_full;
+  if (fed == gst::FeedResult::Refused) ++m.no_client;
 }
 
 void WebRtcOutput::offer(std::string sdp, Done done) {
