@@ -156,6 +156,8 @@ std::string prometheus_text(const nlohmann::json& status, const HttpServerStats&
       {"light", "frames"});
   put("probeless_light_frames_dropped_total", C, "Fisheye frames the light capture dropped",
       {"light", "dropped"});
+  put("probeless_light_frames_skipped_total", C,
+      "Fisheye frames the light capture passed over at [light] update_hz", {"light", "skipped"});
   put("probeless_light_keyframes", G, "Light keyframes held", {"light", "keyframes"});
   put("probeless_light_keyframes_dropped_total", C, "Light keyframes dropped",
       {"light", "keyframes_dropped"});

@@ -85,7 +85,8 @@ LightCapture::LightCapture(const ServiceConfig& config, const RigCalibration& ca
     : config_(config),
       calibration_(calibration),
       estimator_(std::make_unique<Estimator>()),
-      service_poses_(std::move(poses)) {
+      service_poses_(std::move(poses)),
+      pacing_(config.light_update_hz) {
   if (!calibration_.fisheye)
     throw std::invalid_argument("light capture: the rig calibration has no fisheye model");
   room_ = room_of(config_, scene);
@@ -210,8 +211,15 @@ void LightCapture::run(std::stop_token stop, StageStats& stats, HeartbeatRegistr
       frame = std::move(queue_.front());
       queue_.pop_front();
     }
-    if (!process(frame, &stats)) return;
+    if (admit(frame) && !process(frame, &stats)) return;
   }
+}
+
+bool LightCapture::admit(const FisheyeFrame& frame) {
+  if (pacing_.admit(frame.exposure, frame.timestamp_ns)) return true;
+  std::lock_guard lock(mutex_);
+  skipped_ = pacing_.skipped();
+  return false;
 }
 
 bool LightCapture::process(const FisheyeFrame& frame, StageStats* stats) {
@@ -383,6 +391,8 @@ nlohmann::json LightCapture::status() const {
   nlohmann::json j = {{"state", state_},
                       {"frames", processed_},
                       {"dropped", dropped_},
+                      {"skipped", skipped_},
+                      {"update_hz", config_.light_update_hz},
                       {"frames_without_pose", without_pose_},
                       {"frames_paused_without_pose", paused_},
                       {"keyframes", keyframes_},

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "app/pipeline/light_pacing.hpp"
 #include "app/pipeline/pose_history.hpp"
 #include "app/pipeline/service_config.hpp"
 #include "app/render/environment.hpp"
@@ -92,6 +93,9 @@ class LightCapture {
   // says why); neither may run beside run().
   bool initialise();
   bool process(const FisheyeFrame& frame, StageStats* stats = nullptr);
+  // Whether process() should take this frame at `[light] update_hz` (LightPacing); run()
+  // asks for every frame, and a caller of process() should too. Counts the frames skipped.
+  bool admit(const FisheyeFrame& frame);
 
   nlohmann::json status() const;
   // Radiance SH of the keyframe last updated, as of the last snapshot (publish() computes it).
@@ -119,7 +123,8 @@ class LightCapture {
   std::deque<FisheyeFrame> queue_;
   std::deque<std::pair<TimestampNs, Pose>> poses_;  // the last few seconds of RGB-D poses
   std::shared_ptr<const PoseHistory> service_poses_;
-  std::uint64_t processed_ = 0, dropped_ = 0, without_pose_ = 0, paused_ = 0;
+  std::uint64_t processed_ = 0, dropped_ = 0, without_pose_ = 0, paused_ = 0, skipped_ = 0;
+  LightPacing pacing_;  // the light thread's (or process()'s caller's) only
   int keyframes_ = 0, active_keyframe_ = -1;
   std::uint64_t keyframes_dropped_ = 0;  // for [light] max_keyframes
   // /status: the keyframes kept (id, position) and the reprojection cache's entries, so that

@@ -362,13 +362,16 @@ ServiceConfig parse_service_table(const TomlReader& r, const toml::table& root) 
   if (auto* t = r.optional_table(root, "light")) {
     r.only(*t, "[light]",
            {"enabled", "face_size", "keyframe_distance_m", "max_keyframes", "room", "room_min",
-            "room_max", "colour_fill"});
+            "room_max", "colour_fill", "update_hz"});
     r.get(*t, "enabled", c.light_enabled);
     r.get(*t, "face_size", c.light_face_size);
     r.get(*t, "keyframe_distance_m", c.light_keyframe_distance_m);
     r.get(*t, "max_keyframes", c.light_max_keyframes);
     r.get(*t, "room", c.light_room);
     r.get(*t, "colour_fill", c.light_colour_fill);
+    r.get(*t, "update_hz", c.light_update_hz);
+    if (!(c.light_update_hz == 0 || (c.light_update_hz >= 1 && c.light_update_hz <= 1000)))
+      r.fail(t->get("update_hz"), "update_hz must be 0 (every frame) or in 1..1000");
     r.get_vector<3>(*t, "room_min", c.light_room_min);
     r.get_vector<3>(*t, "room_max", c.light_room_max);
     if (c.light_room != "off" && c.light_room != "auto" && c.light_room != "sim" &&

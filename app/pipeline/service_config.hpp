@@ -133,6 +133,10 @@ struct ServiceConfig {
   // (kernels/light/colour_fill.hpp). On: `eval render`'s chrome sphere 0.256 -> 0.249, its lower
   // half 0.53 -> 0.25 (docs/light-capture.md "Below the horizon").
   bool light_colour_fill = true;
+  // At most this many fisheye frames a second update the keyframe, in whole bracket cycles
+  // (app/pipeline/light_pacing.hpp); 0: every frame. 25 against the sim's 50: `bench pipeline`
+  // and `eval render` in docs/light-capture.md "Update rate".
+  double light_update_hz = 25;
   std::string light_room = "auto";  // off | auto (sim's box under the sim) | sim | box
   Eigen::Vector3d light_room_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d light_room_max = Eigen::Vector3d::Zero();

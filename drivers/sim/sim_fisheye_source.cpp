@@ -70,8 +70,9 @@ ReadResult SimFisheyeSource::read(FisheyeFrame& frame, std::chrono::milliseconds
     std::lock_guard lock(exposure_mutex_);
     exposure = exposure_;
   }
-  if (next_ < static_cast<std::int64_t>(prerendered_.size())) {
-    const Scene& scene = prerendered_[static_cast<std::size_t>(next_)];
+  const auto count = static_cast<std::int64_t>(prerendered_.size());
+  if (next_ < count || (options_.fisheye_repeat && count > 0)) {
+    const Scene& scene = prerendered_[static_cast<std::size_t>(next_ % count)];
     expose(next_, scene.radiance, scene.truth, exposure, frame);
   } else {
     render_frame(next_, exposure, frame);

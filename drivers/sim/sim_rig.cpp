@@ -143,6 +143,8 @@ SimOptions parse_sim_options(std::string_view spec) {
     } else if (key == "prerender") {
       o.prerender = parse_number<std::int64_t>(key, value, "a frame count");
       if (o.prerender < 0 || o.prerender > 100000) bad(key, value, "0..100000 frames");
+    } else if (key == "fisheye_repeat") {
+      o.fisheye_repeat = parse_bool(key, value);
     } else if (key == "frames" || key == "max_frames") {
       o.max_frames = parse_number<std::int64_t>(key, value, "an integer");
     } else if (key == "stall") {
@@ -169,7 +171,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam, "
           "fisheye_ocam_model, "
           "frames, "
-          "prerender, stall, stall_every, "
+          "prerender, fisheye_repeat, stall, stall_every, "
           "truth, "
           "threads, start, board, near_occluder, edge_samples, stamp, scene)");
     }

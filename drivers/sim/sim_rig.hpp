@@ -72,6 +72,12 @@ struct SimOptions {
   // fisheye keeps its radiance and applies the requested exposure and the sensor noise per
   // read. Memory: ~1.5 MB per RGB-D frame (+ truth), 12 bytes per fisheye pixel.
   std::int64_t prerender = 0;
+  // Past its prerendered frames the fisheye serves them again from the first (frame i shows
+  // the scene of i mod prerender, with its own time) instead of rendering live. For benches:
+  // the fisheye runs on wall time at 50 frames/s, so below 50 RGB-D fps it outran the
+  // prerendered frames and the sim's ray casting (~7-20 ms a frame) landed in the measurement,
+  // slowing the pipeline further (docs/performance.md, 2026-11-27 evening).
+  bool fisheye_repeat = false;
   // A second moving occluder, a hand 0.25-0.45 m in front of the colour camera: closer than
   // the depth sensor's minimum range, so it has no depth (SimWorld::near_hand; the occlusion
   // evaluator's near-occluder protocol, docs/occlusion.md). Off by default: the frames

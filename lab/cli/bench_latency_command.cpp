@@ -55,7 +55,8 @@ std::string source_spec(const BenchLatencyOptions& o) {
     throw CommandError("bench latency: --prerender needs a sim source, not " + o.source);
   const double run_s = 3 * o.warmup_s + 2 * o.seconds + 20;
   const auto frames = static_cast<long>(std::ceil(run_s * 30));
-  return o.source + (o.source == "sim" ? ":" : ",") + "truth=0,prerender=" + std::to_string(frames);
+  return o.source + (o.source == "sim" ? ":" : ",") +
+         "truth=0,fisheye_repeat=1,prerender=" + std::to_string(frames);
 }
 
 // Where the service's outputs are, as the paths' receivers need them.

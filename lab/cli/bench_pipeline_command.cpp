@@ -84,11 +84,13 @@ void run_bench(const BenchArgs& args) {
   if (args.prerender) {
     if (!config.source.starts_with("sim"))
       throw CommandError("bench pipeline: --prerender needs a sim source");
-    // Every RGB-D frame the run asks for, and as many fisheye frames: at 50 fisheye frames/s
-    // of wall time that covers runs down to 50 * (frames + warm-up) / fps ... >= the RGB-D
-    // count at >= 50 fps; beyond them the sim renders live again.
-    config.source += (config.source.find(':') == std::string::npos ? ":" : ",") +
-                     fmt::format("prerender={}", args.frames + args.warmup + kTail);
+    // Every RGB-D frame the run asks for, and as many fisheye frames, served again from the
+    // first once used up (fisheye_repeat): the fisheye runs on 50 frames/s of wall time, so
+    // below 50 RGB-D fps it outran them and the sim's live ray casting (7-20 ms a frame) was
+    // measured as the pipeline's, which slowed it further (docs/performance.md).
+    config.source +=
+        (config.source.find(':') == std::string::npos ? ":" : ",") +
+        fmt::format("prerender={},fisheye_repeat=1", args.frames + args.warmup + kTail);
   }
   config.occlusion_method = args.occlusion;
   config.tracking.method = args.tracking;

@@ -143,7 +143,7 @@ bool SimLightFeed::next_rgbd() {
 void SimLightFeed::update_light() {
   sequencer_.observe(fisheye_.exposure,
                      count_exposure(fisheye_.raw, fisheye_.bit_depth, fisheye_.black_level));
-  if (!capture_.process(fisheye_)) throw_capture_failed(capture_);
+  if (capture_.admit(fisheye_) && !capture_.process(fisheye_)) throw_capture_failed(capture_);
 }
 
 }  // namespace probeless::eval

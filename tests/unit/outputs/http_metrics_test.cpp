@@ -28,7 +28,8 @@ nlohmann::json pipeline_status() {
     "stages": {"render": {"p50_ms": 3.25, "p99_ms": 5.5}, "encode": {"p50_ms": 2.0, "p99_ms": 2.75}},
     "sources": {"rgbd": {"name": "sim", "state": "streaming", "last_error": ""},
                 "fisheye": {"name": "cam \"2\"", "state": "no_signal", "last_error": "x"}},
-    "light": {"state": "running", "frames": 88, "dropped": 2, "keyframes": 3, "keyframes_dropped": 1},
+    "light": {"state": "running", "frames": 88, "dropped": 2, "skipped": 90, "keyframes": 3,
+              "keyframes_dropped": 1},
     "tracking": {"state": "tracking", "keyframes": 5, "lost_count": 0,
                  "anchor": {"kind": "rig", "found": true}},
     "watchdog": {"threads": []}
@@ -103,6 +104,7 @@ TEST(HttpMetrics, ScrapeIsInTheExpositionFormatAndAgreesWithStatus) {
             status["stages"]["encode"]["p99_ms"].get<double>() / 1000);
   EXPECT_EQ(s.at("probeless_rgbd_frames_dropped_total"), status["frames"]["rgbd_dropped"]);
   EXPECT_EQ(s.at("probeless_light_frames_dropped_total"), status["light"]["dropped"]);
+  EXPECT_EQ(s.at("probeless_light_frames_skipped_total"), status["light"]["skipped"]);
   EXPECT_EQ(s.at("probeless_http_stream_clients"), status["http"]["clients"]);
   EXPECT_EQ(s.at("probeless_http_stream_clients"), 1);
   EXPECT_EQ(s.at("probeless_http_frames_published_total"), status["http"]["frames_published"]);

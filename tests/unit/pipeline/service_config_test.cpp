@@ -135,6 +135,16 @@ TEST(ServiceConfig, BeyondRangeSetsTheFarHoleRule) {
         << bad;
 }
 
+TEST(ServiceConfig, LightUpdateRateIsCappedOrEveryFrame) {
+  EXPECT_EQ(ServiceConfig{}.light_update_hz, 25);
+  EXPECT_EQ(parse_service_config("[light]\nupdate_hz = 0\n").light_update_hz, 0);
+  EXPECT_EQ(parse_service_config("[light]\nupdate_hz = 12.5\n").light_update_hz, 12.5);
+  for (const char* bad : {"-1", "0.5", "1001", "\"often\""})
+    EXPECT_THROW(parse_service_config(std::string("[light]\nupdate_hz = ") + bad + "\n"),
+                 ParseError)
+        << bad;
+}
+
 // A typo must not fall back silently to a default: the error names the key and its line.
 TEST(ServiceConfig, UnknownKeyIsAnErrorWithItsLine) {
   try {
