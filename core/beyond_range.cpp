@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace probeless {
 
@@ -15,10 +16,12 @@ std::size_t fill_beyond_range_holes(DepthImage& depth, const BeyondRangeRule& ru
   if (rule.far_mm == 0) return 0;
   const int w = depth.width(), h = depth.height();
   const int rim_px = beyond_range_rim_px(rule, w);
+  if (w > 65535 || h > 65535)  // the queue packs x and y in 16 bits each
+    throw std::invalid_argument("fill_beyond_range_holes: a depth image over 65535 px a side");
   const std::size_t n = depth.pixel_count();
   const std::uint16_t* d = depth.data();
   // Most frames indoors measure nothing that far: then no hole can be filled (0.02 ms against
-  // the 1.2 ms of the full pass on a VGA frame a third hole, tests/unit/core DISABLED_CostVga).
+  // the ~1 ms of the full pass on a VGA frame a third hole, tests/unit/core DISABLED_CostVga).
   if (std::none_of(d, d + n, [&](std::uint16_t v) { return v >= rule.far_mm; })) return 0;
   // Every hole pixel takes the depth of its nearest measured pixel (4-connected steps through
   // the hole, breadth first from the rim): `nearest` holds it, 0 while unreached.
@@ -28,36 +31,47 @@ std::size_t fill_beyond_range_holes(DepthImage& depth, const BeyondRangeRule& ru
   nearest.assign(n, 0);
   steps.assign(n, 0);
   queue.clear();
-  const auto neighbours = [&](std::size_t p, auto&& f) {
-    const int x = static_cast<int>(p % static_cast<std::size_t>(w));
-    const int y = static_cast<int>(p / static_cast<std::size_t>(w));
-    if (x > 0) f(p - 1);
-    if (x + 1 < w) f(p + 1);
-    if (y > 0) f(p - static_cast<std::size_t>(w));
-    if (y + 1 < h) f(p + static_cast<std::size_t>(w));
+  // The queue holds (y << 16 | x): the neighbours' bounds come from x and y without a division
+  // per pixel: 1.05 -> 0.85 ms p50 on a VGA frame a third hole (DISABLED_CostVga, 2026-11-27).
+  const auto uw = static_cast<std::size_t>(w);
+  const auto neighbours = [&](int x, int y, auto&& f) {
+    const std::size_t p = static_cast<std::size_t>(y) * uw + static_cast<std::size_t>(x);
+    if (x > 0) f(p - 1, x - 1, y);
+    if (x + 1 < w) f(p + 1, x + 1, y);
+    if (y > 0) f(p - uw, x, y - 1);
+    if (y + 1 < h) f(p + uw, x, y + 1);
   };
-  for (std::size_t p = 0; p < n; ++p) {
-    if (d[p] != 0) continue;
-    std::uint16_t rim = 0;  // the farthest measured 4-neighbour: a wall fading out wins ties
-    neighbours(p, [&](std::size_t q) { rim = std::max(rim, d[q]); });
-    if (rim == 0) continue;
-    nearest[p] = rim;
-    steps[p] = 1;
-    queue.push_back(static_cast<std::uint32_t>(p));
+  const auto pack = [](int x, int y) {
+    return static_cast<std::uint32_t>(y) << 16 | static_cast<std::uint32_t>(x);
+  };
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * uw + static_cast<std::size_t>(x);
+      if (d[p] != 0) continue;
+      std::uint16_t rim = 0;  // the farthest measured 4-neighbour: a wall fading out wins ties
+      neighbours(x, y, [&](std::size_t q, int, int) { rim = std::max(rim, d[q]); });
+      if (rim == 0) continue;
+      nearest[p] = rim;
+      steps[p] = 1;
+      queue.push_back(pack(x, y));
+    }
   }
   for (std::size_t head = 0; head < queue.size(); ++head) {
-    const std::uint32_t p = queue[head];
-    neighbours(p, [&](std::size_t q) {
+    const int x = static_cast<int>(queue[head] & 0xffffu), y = static_cast<int>(queue[head] >> 16);
+    const std::size_t p = static_cast<std::size_t>(y) * uw + static_cast<std::size_t>(x);
+    neighbours(x, y, [&](std::size_t q, int qx, int qy) {
       if (d[q] != 0 || nearest[q] != 0) return;
       nearest[q] = nearest[p];
       steps[q] = static_cast<std::uint16_t>(std::min(65535, steps[p] + 1));
-      queue.push_back(static_cast<std::uint32_t>(q));
+      queue.push_back(pack(qx, qy));
     });
   }
   std::size_t filled = 0;
   std::uint16_t* out = depth.data();
-  for (const std::uint32_t p : queue)
+  for (const std::uint32_t packed : queue) {
+    const std::size_t p = static_cast<std::size_t>(packed >> 16) * uw + (packed & 0xffffu);
     if (nearest[p] >= rule.far_mm && steps[p] > rim_px) out[p] = nearest[p], ++filled;
+  }
   return filled;
 }
 
