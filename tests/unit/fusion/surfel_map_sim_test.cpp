@@ -1,0 +1,107 @@
+// The surfel map's reference on the sim's box_appears scene (drivers/sim/sim_moving_scene.hpp,
+// docs/fusion.md): the real path's frames, with the sensor's Kinect-like depth noise, the
+// truth poses and the rig calibration, around the point where the judge stands its sphere.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+#include "drivers/sim/sim_moving_scene.hpp"
+#include "drivers/sim/sim_rig.hpp"
+#include "kernels/fusion/surfel_map_reference.hpp"
+
+namespace probeless::fusion {
+namespace {
+
+TEST(SurfelMapSim, TheBoxThatAppearsIsFusedAndBecomesStable) {
+  // 15 frames before the box appears at 2.0 s and 15 from then on, at 30 frames/s.
+  Rig rig = sim::make_sim_rig(
+      sim::parse_sim_options("realtime=0,trajectory=static,scene=box_appears,start=1.5,frames=30"));
+  const sim::Occluder objects = sim::moving_scene_objects(sim::MovingScene::BoxAppears, 2.0);
+  ASSERT_EQ(objects.boxes.size(), 1u);
+  // The box above the table's noise (sigma_z ~4 mm at 1.7 m): 2 cm up from its base.
+  Eigen::Vector3f lo = objects.boxes[0].lo - Eigen::Vector3f::Constant(0.01f);
+  const Eigen::Vector3f hi = objects.boxes[0].hi + Eigen::Vector3f::Constant(0.01f);
+  lo.z() = objects.boxes[0].lo.z() + 0.02f;
+  const auto in_box = [&](const Surfel& s) {
+    return (s.position.array() >= lo.array()).all() && (s.position.array() <= hi.array()).all();
+  };
+
+  SurfelMapParams params;
+  params.region_centre = sim::light_probe_position().cast<float>();
+  params.region_radius_m = 0.5f;  // the table around the sphere, the box 24 cm from it
+  SurfelMap map(params);
+  const PinholeIntrinsics& k = rig.calibration.rgb.intrinsics();
+  int first_with_box = -1, stable_after = -1;
+  for (int frame = 0; frame < 30; ++frame) {
+    RgbdFrame f;
+    ASSERT_EQ(rig.rgbd->read(f, std::chrono::milliseconds(10000)), ReadResult::Frame);
+    ASSERT_TRUE(f.truth && f.truth->rig_pose);
+    const Pose T_world_rgb = *f.truth->rig_pose * rig.calibration.T_rig_rgb;
+    const auto stats = map.integrate(f.depth, f.colour, {1, 1, 1}, k, T_world_rgb, frame);
+    const double t = 1.5 + frame / 30.0;
+    const bool box_there = t >= 2.0 - 1e-6;
+    if (box_there && first_with_box < 0) first_with_box = frame;
+    // On the box: all of them, and those born on the frame it appeared (its edges keep a few
+    // unstable newcomers, and a tenth of the first ones are edge pixels seen now and then, so
+    // "stable" is said of 80 % of the first ones).
+    std::size_t on_box = 0, stable_on_box = 0, first = 0, stable_first = 0;
+    for (const Surfel& s : map.surfels()) {
+      if (!in_box(s)) continue;
+      ++on_box;
+      stable_on_box += map.is_stable(s);
+      if (s.created_frame == first_with_box) {
+        ++first;
+        stable_first += map.is_stable(s);
+      }
+    }
+    if (!box_there) {
+      EXPECT_EQ(on_box, 0u) << "frame " << frame << ": nothing there yet";
+    } else {
+      EXPECT_GT(on_box, 1000u) << "frame " << frame << ": the box's front and top, ~1500 px";
+      if (stable_after < 0 && stable_first >= 0.8 * static_cast<double>(first))
+        stable_after = frame - first_with_box;
+    }
+    std::printf(
+        "frame %2d t %.3f s: %zu surfels (%zu stable), box %zu (%zu stable; of the first "
+        "%zu, %zu); fused %zu born %zu violations %zu unstable gone %zu\n",
+        frame, t, map.size(), map.stable_count(), on_box, stable_on_box, first, stable_first,
+        stats.fused, stats.born, stats.removed_violation, stats.removed_unstable);
+  }
+  EXPECT_EQ(first_with_box, 15) << "in the map on the frame it appears";
+  std::printf("box: in the map from frame %d, 80 %% of its first surfels stable %d frames later\n",
+              first_with_box, stable_after);
+  ASSERT_GE(stable_after, 0) << "never 80 % stable";
+  EXPECT_GE(stable_after, 9) << "not before ten sightings";
+  EXPECT_LE(stable_after, 14) << "within the 15 frames (0.5 s) after it appeared";
+}
+
+// The reference's cost on the sim's view of box_appears with the judge's region (0.5 m around
+// the sphere: ~19 000 of the 307 200 pixels): run with --gtest_also_run_disabled_tests.
+TEST(SurfelMapSim, DISABLED_CostBoxAppears) {
+  Rig rig = sim::make_sim_rig(
+      sim::parse_sim_options("realtime=0,trajectory=static,scene=box_appears,start=1.5,frames=30"));
+  SurfelMapParams params;
+  params.region_centre = sim::light_probe_position().cast<float>();
+  params.region_radius_m = 0.5f;
+  SurfelMap map(params);
+  std::vector<double> ms;
+  for (int frame = 0; frame < 30; ++frame) {
+    RgbdFrame f;
+    ASSERT_EQ(rig.rgbd->read(f, std::chrono::milliseconds(10000)), ReadResult::Frame);
+    const Pose T_world_rgb = *f.truth->rig_pose * rig.calibration.T_rig_rgb;
+    const auto t0 = std::chrono::steady_clock::now();
+    map.integrate(f.depth, f.colour, {1, 1, 1}, rig.calibration.rgb.intrinsics(), T_world_rgb,
+                  frame);
+    ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  std::printf("surfel map reference, sim box_appears, region 0.5 m, %zu surfels: p50 %.1f ms\n",
+              map.size(), ms[ms.size() / 2]);
+}
+
+}  // namespace
+}  // namespace probeless::fusion
