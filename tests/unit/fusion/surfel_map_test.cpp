@@ -258,6 +258,25 @@ TEST(SurfelMap, TheBudgetHoldsAndEvictsTheFarthestFirst) {
     ASSERT_LE((s.position - p.region_centre).norm(), kept_limit);
 }
 
+TEST(SurfelMap, WithinAShellTheLeastConfidentGoFirst) {
+  // One frame of floor, the region centred 30 cm right of the view's centre. By distance alone
+  // the survivors are a disc around the region's centre; with one shell for everything they
+  // are the most confident, a disc around the principal point (the radial weight).
+  const auto survivors_mean_x = [](float shell_m) {
+    SurfelMapParams p = everywhere();
+    p.region_centre = {0.3f, 0.0f, 0.0f};
+    p.max_surfels = 20000;
+    p.eviction_shell_m = shell_m;
+    SurfelMap map(p);
+    integrate(map, render(looking_down(0, 0, 1.0), {}), 0);
+    double sum = 0;
+    for (const Surfel& s : map.surfels()) sum += s.position.x();
+    return sum / static_cast<double>(map.size());
+  };
+  EXPECT_NEAR(survivors_mean_x(0.05f), 0.3, 0.01);
+  EXPECT_NEAR(survivors_mean_x(100.0f), 0.0, 0.01);
+}
+
 TEST(SurfelMap, PixelsOutsideTheRegionAreNotFused) {
   SurfelMapParams p;
   p.region_centre = {0.2f, 0.0f, 0.0f};
