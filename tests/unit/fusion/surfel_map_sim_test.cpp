@@ -79,9 +79,10 @@ TEST(SurfelMapSim, TheBoxThatAppearsIsFusedAndBecomesStable) {
   EXPECT_LE(stable_after, 14) << "within the 15 frames (0.5 s) after it appeared";
 }
 
-// What the sensor sees through goes at once (6.2.6). Behind the box's lower front stands the
-// sim's mirror ball, which gives no depth (docs/sim.md): surfels in front of it stay, for the
-// colour-violation rule of item 3 [6.2.6] to remove.
+// What the sensor sees through goes at once (6.2.6). Behind the box's lower front the view
+// falls past the table's back edge to the back wall 3.6 m away, and along that depth jump the
+// Kinect-like sensor model leaves holes (truth depth 3.6 m, measured 0): surfels in front of
+// them stay, for the colour-violation rule of item 3 [6.2.6] to remove.
 TEST(SurfelMapSim, TheRemovedBoxLeavesTheMapOnTheFrameItGoesWhereThereIsDepth) {
   Rig rig = sim::make_sim_rig(
       sim::parse_sim_options("realtime=0,trajectory=static,scene=box_removed,start=1.5,frames=20"));
