@@ -35,8 +35,8 @@ struct Surfel {
 };
 
 struct SurfelMapParams {
-  // 6.2.2: surfels below this are "unstable": rendered, not tracked against. The thesis
-  // follows ElasticFusion here; the number is ElasticFusion's c_stable (Whelan et al. 2016).
+  // 6.2.2: surfels below this are "unstable": rendered, not tracked against. 10 is
+  // ElasticFusion's c_stable (Whelan et al. 2016), not checked against the thesis text.
   float stable_confidence = 10;
   // Unstable surfels not seen for more than this many frames are deleted (6.2.2, 6.2.6).
   // ElasticFusion deletes a surfel still unstable 20 frames after its birth; counting from
