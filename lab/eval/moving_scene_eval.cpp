@@ -60,7 +60,7 @@ std::vector<bool> alpha_mask(const ImageRGBAF& img) {
 }
 
 // The surfel map's region around the sphere (issue #21 item 1's budget sphere): 0.5 m holds
-// what these scenes move (the box 18-30 cm from the centre, the hand's last 0.4 m of
+// what these scenes move (the box 18-30 cm from the centre, the hand's last 0.3 m of
 // approach) and the table around the sphere, and keeps the map to ~23 000 surfels (6-8 ms a
 // frame, docs/fusion.md). Farther real things are the keyframe's: from the sphere they look
 // small, and the room box places the walls well enough. The splats' max distance is the same
