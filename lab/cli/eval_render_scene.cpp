@@ -111,7 +111,10 @@ void run_eval_render_scene(const SceneCommandOptions& c) {
       r.scene, r.without_fusion.fisheye_frames, r.judged_from_s);
   print(r.without_fusion, fmt::format("without fusion ({})", to_string(r.without_fusion.source)));
   if (r.fusion_implemented)
-    print(r.with_fusion, fmt::format("with fusion ({})", to_string(r.with_fusion.source)));
+    print(r.with_fusion,
+          fmt::format("with fusion ({}: the CPU surfel map and per-object environment, "
+                      "truth poses; not the service's path)",
+                      to_string(r.with_fusion.source)));
   else
     std::cout << "  with fusion: not implemented (issue #21 items 1-5); the *_without_fusion "
                  "columns are today's method and so are the fusion columns\n";
@@ -120,7 +123,9 @@ void run_eval_render_scene(const SceneCommandOptions& c) {
   const auto& n = r.without_fusion;
   const nlohmann::json j{
       {"scene", r.scene},
-      {"fusion", r.fusion_implemented ? "implemented" : "not implemented"},
+      // "implemented" in the judge by the CPU references (truth poses), not in the service.
+      {"fusion",
+       r.fusion_implemented ? "implemented (cpu reference, truth poses)" : "not implemented"},
       {"environment_source", to_string(f.source)},
       {"environment_source_without_fusion", to_string(n.source)},
       {"near_object_rel_rmse", f.near_object_rel_rmse},

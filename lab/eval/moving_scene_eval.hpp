@@ -25,8 +25,10 @@ enum class EnvironmentSource {
   // colour frame projected below the light point's horizon ([light] colour_fill,
   // kernels/light/colour_fill.hpp).
   ColourFillRoomBox,
-  // The keyframe, then the surfels rendered from the object's position (thesis 6.2.7). Not
-  // implemented: implemented() says false and the judge reports today's method in its place.
+  // The keyframe (today's snapshot, the colour fill included), then the surfels of a surfel map
+  // fused from every RGB-D frame (truth poses) rendered over it from the object's position with
+  // the dilate/erode gap fill (thesis 6.2.2, 6.2.7): the CPU references of
+  // kernels/fusion/surfel_{map,environment}_reference.hpp, run by the judge. Not in the service.
   SurfelFusion,
 };
 const char* to_string(EnvironmentSource source);

@@ -1,6 +1,7 @@
 // The moving-object judge end to end on one scene (docs/fusion.md), at small sizes so that it
-// takes seconds: the report's shape, the fusion column honest about not existing, and today's
-// method as docs/fusion.md measured it at full size (the box hardly shown, so no removal).
+// takes seconds: the report's shape, the fusion column (the CPU surfel fusion, run on the same
+// frames), and today's method as docs/fusion.md measured it at full size (the box hardly
+// shown, so no removal).
 #include "lab/eval/moving_scene_eval.hpp"
 
 #include <gtest/gtest.h>
@@ -15,10 +16,15 @@ TEST(MovingSceneEval, BoxRemovedEndToEnd) {
   o.sphere_image_size = 96;
   const MovingSceneReport r = evaluate_moving_scene(o);
   EXPECT_EQ(r.scene, "box_removed");
-  EXPECT_FALSE(r.fusion_implemented);
-  EXPECT_EQ(r.with_fusion.source, EnvironmentSource::ColourFillRoomBox)
-      << "until the fusion exists its column is today's method";
-  EXPECT_DOUBLE_EQ(r.with_fusion.near_object_rel_rmse, r.without_fusion.near_object_rel_rmse);
+  EXPECT_TRUE(r.fusion_implemented);
+  EXPECT_EQ(r.with_fusion.source, EnvironmentSource::SurfelFusion);
+  EXPECT_EQ(r.without_fusion.source, EnvironmentSource::ColourFillRoomBox);
+  // The same frames and snapshots both ways; the fusion's column is its own run.
+  EXPECT_EQ(r.with_fusion.fisheye_frames, r.without_fusion.fisheye_frames);
+  EXPECT_EQ(r.with_fusion.snapshots, r.without_fusion.snapshots);
+  EXPECT_EQ(r.with_fusion.near_object_pixels, r.without_fusion.near_object_pixels)
+      << "the mask is the truth's, the same for both";
+  EXPECT_NE(r.with_fusion.near_object_rel_rmse, r.without_fusion.near_object_rel_rmse);
   const SceneMetrics& m = r.without_fusion;
   EXPECT_EQ(m.fisheye_frames, 165);  // 5.5 s at 30 fps
   EXPECT_EQ(m.snapshots, 17);        // from 1.0 s, every 0.267 s

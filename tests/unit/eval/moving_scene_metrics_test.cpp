@@ -97,7 +97,9 @@ TEST(MovingSceneMetrics, TheTruthWithoutTheObjectMissesItByFar) {
 
 TEST(MovingSceneMetrics, TheFusionSeamSaysWhatIsImplemented) {
   EXPECT_TRUE(implemented(EnvironmentSource::ColourFillRoomBox));
-  EXPECT_FALSE(implemented(EnvironmentSource::SurfelFusion)) << "update docs/fusion.md";
+  // In the judge, by the CPU references (surfel map + per-object environment, truth poses);
+  // docs/fusion.md's State and table say so. The service does not run it yet.
+  EXPECT_TRUE(implemented(EnvironmentSource::SurfelFusion)) << "update docs/fusion.md";
   EXPECT_STREQ(to_string(EnvironmentSource::SurfelFusion), "surfel_fusion");
   MovingSceneEvalOptions o;
   o.scene = sim::MovingScene::None;
