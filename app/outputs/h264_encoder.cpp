@@ -28,7 +28,48 @@ constexpr RequiredElement kRequired[] = {{"appsrc", "gstreamer1.0-plugins-base"}
                                          {"videoconvert", "gstreamer1.0-plugins-base"},
                                          {"appsink", "gstreamer1.0-plugins-base"}};
 
+bool has_element(const char* name) {
+  return static_cast<bool>(gst::ElementFactory::adopt(gst_element_factory_find(name)));
+}
+
 }  // namespace
+
+std::string choose_h264_encoder(const std::string& wanted) {
+  gst::ensure_gstreamer();
+  const bool v4l2 = has_element("v4l2h264enc"), x264 = has_element("x264enc");
+  if (wanted == "auto") {
+    if (v4l2) return "v4l2h264enc";
+    if (x264) return "x264enc";
+    throw RtspServerError(
+        "rtsp: no H.264 encoder: GStreamer has neither v4l2h264enc (a V4L2 memory-to-memory "
+        "encoder of the board, gstreamer1.0-plugins-good) nor x264enc (install "
+        "gstreamer1.0-plugins-ugly)");
+  }
+  if (wanted == "x264enc") {
+    if (!x264) throw RtspServerError("rtsp: x264enc not found: install gstreamer1.0-plugins-ugly");
+    return wanted;
+  }
+  if (wanted == "v4l2h264enc") {
+    if (!v4l2)
+      throw RtspServerError(
+          "rtsp: v4l2h264enc not found: GStreamer's video4linux2 plugin "
+          "(gstreamer1.0-plugins-good) found no V4L2 H.264 encoder device on this machine");
+    return wanted;
+  }
+  throw RtspServerError("rtsp: encoder '" + wanted + "' is not one of auto, v4l2h264enc, x264enc");
+}
+
+std::string h264_encoder_launch(const std::string& encoder, const RtspServerConfig& c) {
+  if (encoder == "v4l2h264enc")  // the V4L2 controls' own names (v4l2-ctl --list-ctrls)
+    return fmt::format(
+        "v4l2h264enc extra-controls=\"controls,video_bitrate={},"
+        "h264_i_frame_period={}\"",
+        c.bitrate_kbps * 1000, c.keyframe_interval);
+  // ultrafast: no B-frames, no CABAC (baseline-decodable); zerolatency: no lookahead, so a
+  // frame leaves the encoder as soon as it is encoded.
+  return fmt::format("x264enc tune=zerolatency speed-preset=ultrafast bitrate={} key-int-max={}",
+                     c.bitrate_kbps, c.keyframe_interval);
+}
 
 // The subscribers, apart from the encoder so that a Subscription may outlive it. `mutex` is
 // held while they are called: unsubscribing waits for a call under way to return.
@@ -162,7 +203,7 @@ H264Encoder::H264Encoder(const RtspServerConfig& config) : impl_(std::make_share
   if (c.max_queued_frames < 1) throw RtspServerError("rtsp: max_queued_frames must be >= 1");
   m.encoder = choose_h264_encoder(c.encoder);
   for (const auto& e : kRequired)
-    if (!gst::ElementFactory::adopt(gst_element_factory_find(e.name)))
+    if (!has_element(e.name))
       throw RtspServerError(
           fmt::format("h264: GStreamer element {} not found: install {}", e.name, e.package));
   m.start();
@@ -203,6 +244,7 @@ void H264Encoder::Impl::send_pending_keyframe() {
 
 H264Encoder::Fed H264Encoder::push(std::shared_ptr<const ImageRGB8> frame, TimestampNs capture_ns) {
   Impl& m = *impl_;
+  if (!frame || frame->empty()) return Fed::Stopped;  // nothing to encode
   std::lock_guard lock(m.feed_mutex);
   if (!m.appsrc) return Fed::Stopped;
   const bool same_frame = !m.last_frame.owner_before(frame) && !frame.owner_before(m.last_frame);

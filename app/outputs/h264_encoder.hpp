@@ -24,6 +24,13 @@
 
 namespace probeless {
 
+// "auto", "v4l2h264enc" or "x264enc" resolved against the installed GStreamer plugins;
+// RtspServerError naming the Debian package to install when the wanted one is missing.
+std::string choose_h264_encoder(const std::string& wanted);
+
+// The encoder's gst-launch description with the config's bitrate and keyframe interval.
+std::string h264_encoder_launch(const std::string& encoder, const RtspServerConfig& config);
+
 // One encoded picture as the subscribers get it. `buffer` is borrowed for the callback: a
 // subscriber that keeps it (to push it on) takes a reference or a gst_buffer_copy().
 struct H264AccessUnit {

@@ -59,22 +59,6 @@ constexpr RequiredElement kRequired[] = {{"appsrc", "gstreamer1.0-plugins-base"}
 // end; past this the media skips to the next keyframe. ~1 s of 2 Mbit/s.
 constexpr guint64 kMaxQueuedBytes = 256 * 1024;
 
-}  // namespace
-
-std::string h264_encoder_launch(const std::string& encoder, const RtspServerConfig& c) {
-  if (encoder == "v4l2h264enc")  // the V4L2 controls' own names (v4l2-ctl --list-ctrls)
-    return fmt::format(
-        "v4l2h264enc extra-controls=\"controls,video_bitrate={},"
-        "h264_i_frame_period={}\"",
-        c.bitrate_kbps * 1000, c.keyframe_interval);
-  // ultrafast: no B-frames, no CABAC (baseline-decodable); zerolatency: no lookahead, so a
-  // frame leaves the encoder as soon as it is encoded.
-  return fmt::format("x264enc tune=zerolatency speed-preset=ultrafast bitrate={} key-int-max={}",
-                     c.bitrate_kbps, c.keyframe_interval);
-}
-
-namespace {
-
 // What the media-factory callbacks, the encoder's subscription and push() share; the GLib
 // callbacks hold it through a shared_ptr of their own, so a media thread finishing late
 // never sees a freed server. The encoder is weak here: only the server owns it.
@@ -197,31 +181,6 @@ nlohmann::json to_json(const RtspServerStats& s) {
           {"dropped_queue_full", s.dropped_queue_full},
           {"access_units_sent", s.access_units_sent},
           {"keyframe_requests", s.keyframe_requests}};
-}
-
-std::string choose_h264_encoder(const std::string& wanted) {
-  gst::ensure_gstreamer();
-  const bool v4l2 = has_element("v4l2h264enc"), x264 = has_element("x264enc");
-  if (wanted == "auto") {
-    if (v4l2) return "v4l2h264enc";
-    if (x264) return "x264enc";
-    throw RtspServerError(
-        "rtsp: no H.264 encoder: GStreamer has neither v4l2h264enc (a V4L2 memory-to-memory "
-        "encoder of the board, gstreamer1.0-plugins-good) nor x264enc (install "
-        "gstreamer1.0-plugins-ugly)");
-  }
-  if (wanted == "x264enc") {
-    if (!x264) throw RtspServerError("rtsp: x264enc not found: install gstreamer1.0-plugins-ugly");
-    return wanted;
-  }
-  if (wanted == "v4l2h264enc") {
-    if (!v4l2)
-      throw RtspServerError(
-          "rtsp: v4l2h264enc not found: GStreamer's video4linux2 plugin "
-          "(gstreamer1.0-plugins-good) found no V4L2 H.264 encoder device on this machine");
-    return wanted;
-  }
-  throw RtspServerError("rtsp: encoder '" + wanted + "' is not one of auto, v4l2h264enc, x264enc");
 }
 
 void check_rtsp_path(const std::string& path) {

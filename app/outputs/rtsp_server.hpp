@@ -72,14 +72,6 @@ struct RtspServerError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// "auto", "v4l2h264enc" or "x264enc" resolved against the installed GStreamer plugins;
-// RtspServerError naming the Debian package to install when the wanted one is missing.
-std::string choose_h264_encoder(const std::string& wanted);
-
-// The encoder's gst-launch description with the config's bitrate and keyframe interval
-// (H264Encoder's, app/outputs/h264_encoder.hpp).
-std::string h264_encoder_launch(const std::string& encoder, const RtspServerConfig& config);
-
 // Throws RtspServerError for a mount path gst-rtsp-server would not serve as written.
 void check_rtsp_path(const std::string& path);
 
