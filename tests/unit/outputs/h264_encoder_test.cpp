@@ -59,7 +59,9 @@ struct Seen {
 };
 
 TEST(H264Encoder, AFramePushedByTwoOutputsIsEncodedOnce) {
-  H264Encoder encoder(RtspServerConfig{});
+  RtspServerConfig config;
+  config.max_queued_frames = 30;  // a starved encoder thread (a loaded host) drops no frame here
+  H264Encoder encoder(config);
   Seen seen;
   auto subscription = encoder.subscribe(seen.subscriber());
   std::vector<TimestampNs> pushed;
@@ -211,8 +213,8 @@ TEST(RtspAndWebRtc, ShareOneEncoderThatAPlayerAndAWhepClientDecodeAtOnce) {
       static_cast<unsigned long long>(after.access_units - before.access_units));
   // At 30 Hz for 2 s both decode most frames, each one a composite that was offered (the
   // player may count more: what queued while the WHEP client connected).
-  EXPECT_GE(by_rtsp.size(), 40u);
-  EXPECT_GE(by_webrtc.size(), 40u);
+  EXPECT_GE(by_rtsp.size(), 30u);  // ~60 on a quiet host; room for a loaded one
+  EXPECT_GE(by_webrtc.size(), 30u);
   {
     std::lock_guard lock(offered_mutex);
     for (const TimestampNs t : by_rtsp) EXPECT_TRUE(offered_us.contains(t / 1000)) << t;
@@ -224,7 +226,7 @@ TEST(RtspAndWebRtc, ShareOneEncoderThatAPlayerAndAWhepClientDecodeAtOnce) {
   // Offered twice each (once per output), encoded once each.
   const auto frames_in = after.frames_in - before.frames_in;
   const auto shared_pushes = after.frames_shared - before.frames_shared;
-  EXPECT_GE(frames_in, 50u);
+  EXPECT_GE(frames_in, 40u);
   EXPECT_GE(shared_pushes + 2, frames_in) << "the second output's push was encoded again";
   EXPECT_LE(after.access_units - before.access_units, frames_in + 2);
   EXPECT_EQ(after.subscribers, 2);
@@ -233,8 +235,8 @@ TEST(RtspAndWebRtc, ShareOneEncoderThatAPlayerAndAWhepClientDecodeAtOnce) {
   webrtc->add_status(webrtc_status);
   EXPECT_EQ(rtsp_status["h264"]["subscribers"], 2);
   EXPECT_EQ(webrtc_status["h264"]["subscribers"], 2);
-  EXPECT_GT(rtsp_status["rtsp"]["access_units_sent"], 40);
-  EXPECT_GT(webrtc_status["webrtc"]["frames_encoded"], 40);
+  EXPECT_GT(rtsp_status["rtsp"]["access_units_sent"], 30);
+  EXPECT_GT(webrtc_status["webrtc"]["frames_encoded"], 30);
 
   // Either output may stop first: the other goes on until it stops too, and nothing calls
   // into a stopped one (the ASan preset would say).
