@@ -94,11 +94,14 @@ FeedResult push_rgb_frame(GstAppSrc* src, RgbFeed& feed, std::shared_ptr<const I
   if (gst_app_src_get_current_level_bytes(src) >=
       frame_bytes * static_cast<std::size_t>(max_queued_frames))
     return FeedResult::QueueFull;
-  GstClockTime pts = static_cast<GstClockTime>(capture_ns) > base_time ? capture_ns - base_time : 0;
-  if (feed.last_pts != GST_CLOCK_TIME_NONE && pts <= feed.last_pts) {
-    // A repeated frame (NO SIGNAL) carries its old capture time: it is shown now.
+  const auto capture = static_cast<GstClockTime>(capture_ns);
+  GstClockTime pts = capture > base_time ? capture - base_time : GST_CLOCK_TIME_NONE;
+  if (pts == GST_CLOCK_TIME_NONE ||
+      (feed.last_pts != GST_CLOCK_TIME_NONE && pts <= feed.last_pts)) {
+    // A repeated frame (NO SIGNAL) carries its old capture time, or none before the first
+    // good frame: it is shown now.
     const GstClockTime now = static_cast<GstClockTime>(monotonic_now_ns()) - base_time;
-    pts = std::max(feed.last_pts + 1, now);
+    pts = feed.last_pts != GST_CLOCK_TIME_NONE ? std::max(feed.last_pts + 1, now) : now;
   }
   feed.last_pts = pts;
   GstBuffer* buffer = wrap_rgb_frame(std::move(frame));

@@ -88,10 +88,10 @@ void throw_if_ended(GstElement* pipeline, const char* who);
 // The frame's pixels as a new GstBuffer (transfer full) without a copy: the buffer holds a
 // reference to the frame until GStreamer is done with it, and says the rows' stride in a
 // video meta (GStreamer's default RGB stride is rounded up to 4 bytes; ours is not). The
-// RTSP and WebRTC encoders' input.
+// H.264 encoder's input.
 GstBuffer* wrap_rgb_frame(std::shared_ptr<const ImageRGB8> frame);
 
-// What an RGB appsrc in front of an H.264 encoder keeps between frames (RTSP, WebRTC).
+// What an RGB appsrc in front of an H.264 encoder keeps between frames (H264Encoder).
 struct RgbFeed {
   int width = 0, height = 0;
   GstClockTime last_pts = GST_CLOCK_TIME_NONE;
@@ -101,7 +101,8 @@ enum class FeedResult { Sent, QueueFull, Refused };
 // Pushes `frame` into `src`: caps (RGB at the nominal `framerate`) and a queue bound of
 // `max_queued_frames` frames when its size changes; nothing when that many frames wait
 // already; its PTS the capture time on `base_time`'s clock, and a repeated frame (NO SIGNAL,
-// an old capture time) shown now. Refused: the appsrc is flushing (the pipeline going down).
+// an old capture time, or one before the pipeline started) shown now. Refused: the appsrc is
+// flushing (the pipeline going down).
 FeedResult push_rgb_frame(GstAppSrc* src, RgbFeed& feed, std::shared_ptr<const ImageRGB8> frame,
                           TimestampNs capture_ns, GstClockTime base_time, int framerate,
                           int max_queued_frames);

@@ -2,7 +2,6 @@
 
 #include <gst/app/gstappsrc.h>
 #include <gst/rtsp-server/rtsp-server.h>
-#include <gst/video/video.h>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
@@ -11,6 +10,7 @@
 #include <thread>
 
 #include "app/outputs/gst_objects.hpp"
+#include "app/outputs/h264_encoder.hpp"
 #include "app/service/heartbeat.hpp"
 
 namespace probeless {
@@ -46,43 +46,70 @@ bool has_element(const char* name) {
   return static_cast<bool>(gst::ElementFactory::adopt(gst_element_factory_find(name)));
 }
 
-// The elements of the media besides the encoder, with the Debian package that ships each.
+// The elements of the media, with the Debian package that ships each (the encoder's are
+// checked by H264Encoder).
 struct RequiredElement {
   const char* name;
   const char* package;
 };
 constexpr RequiredElement kRequired[] = {{"appsrc", "gstreamer1.0-plugins-base"},
-                                         {"videoconvert", "gstreamer1.0-plugins-base"},
                                          {"rtph264pay", "gstreamer1.0-plugins-good"}};
 
-}  // namespace
+// A player that stops reading (or a slow link) would otherwise queue access units without
+// end; past this the media skips to the next keyframe. ~1 s of 2 Mbit/s.
+constexpr guint64 kMaxQueuedBytes = 256 * 1024;
 
-std::string h264_encoder_launch(const std::string& encoder, const RtspServerConfig& c) {
-  if (encoder == "v4l2h264enc")  // the V4L2 controls' own names (v4l2-ctl --list-ctrls)
-    return fmt::format(
-        "v4l2h264enc extra-controls=\"controls,video_bitrate={},"
-        "h264_i_frame_period={}\"",
-        c.bitrate_kbps * 1000, c.keyframe_interval);
-  // ultrafast: no B-frames, no CABAC (baseline-decodable); zerolatency: no lookahead, so a
-  // frame leaves the encoder as soon as it is encoded.
-  return fmt::format("x264enc tune=zerolatency speed-preset=ultrafast bitrate={} key-int-max={}",
-                     c.bitrate_kbps, c.keyframe_interval);
-}
-
-namespace {
-
-// What the media-factory callbacks and push() share; the callbacks hold it through a
-// shared_ptr of their own, so a media thread finishing late never sees a freed server.
+// What the media-factory callbacks, the encoder's subscription and push() share; the GLib
+// callbacks hold it through a shared_ptr of their own, so a media thread finishing late
+// never sees a freed server. The encoder is weak here: only the server owns it.
 struct Feed {
-  int max_queued_frames = 2;
-  int framerate = 30;
+  std::weak_ptr<H264Encoder> encoder;
   std::mutex mutex;
-  Media media;          // the shared media while it is prepared (null: nobody watching)
-  gst::Element appsrc;  // its source
-  gst::RgbFeed rgb;     // what the appsrc was last given
-  std::atomic<std::uint64_t> pushed{0}, sent{0}, no_client{0}, queue_full{0}, media_created{0};
+  Media media;                // the shared media while it is prepared (null: nobody watching)
+  gst::Element appsrc;        // its source of access units
+  bool need_keyframe = true;  // the media starts, or restarts after a drop, at a keyframe
+  std::atomic<std::uint64_t> pushed{0}, sent{0}, no_client{0}, queue_full{0}, media_created{0},
+      units{0}, keyframes{0};
+
+  void request_keyframe() {
+    if (auto e = encoder.lock(); e && e->request_keyframe()) ++keyframes;
+  }
+  // The encoder's thread: one access unit into the media, stamped in its running time.
+  void on_access_unit(const H264AccessUnit& unit);
 };
 using FeedRef = std::shared_ptr<Feed>;
+
+bool is_playing(GstElement* element) {
+  GST_OBJECT_LOCK(element);
+  const bool playing = GST_STATE(element) == GST_STATE_PLAYING;
+  GST_OBJECT_UNLOCK(element);
+  return playing;
+}
+
+void Feed::on_access_unit(const H264AccessUnit& unit) {
+  std::lock_guard lock(mutex);
+  GstElement* src = appsrc.get();
+  if (!src || !is_playing(src)) {  // no media, or one not streaming: WebRTC's frame
+    need_keyframe = true;
+    return;
+  }
+  if (gst_app_src_get_current_level_bytes(GST_APP_SRC(src)) > kMaxQueuedBytes)
+    need_keyframe = true;
+  else if (need_keyframe && unit.keyframe)
+    need_keyframe = false;
+  if (need_keyframe) {  // a player could not decode a delta frame without its reference
+    request_keyframe();
+    return;
+  }
+  // The frame's capture time minus the media's base time, as the RGB frames were stamped
+  // when the media had an encoder of its own: one clock (CLOCK_MONOTONIC) for both.
+  const GstClockTime base = gst_element_get_base_time(src);
+  const auto at = static_cast<GstClockTime>(unit.capture_ns);
+  GstBuffer* buffer = gst_buffer_copy(unit.buffer);  // shares the memory, not the bytes
+  GST_BUFFER_PTS(buffer) = at > base ? at - base : 0;
+  GST_BUFFER_DTS(buffer) = GST_BUFFER_PTS(buffer);  // no B-frames: decode order is show order
+  if (gst_app_src_push_buffer(GST_APP_SRC(src), buffer) == GST_FLOW_OK) ++units;
+}
 
 void delete_feed_ref(gpointer data, GClosure*) {
   delete static_cast<FeedRef*>(data);
@@ -107,10 +134,26 @@ void on_media_configure(GstRTSPMediaFactory*, GstRTSPMedia* media, gpointer data
   g_signal_connect_data(media, "unprepared", G_CALLBACK(on_media_unprepared), new FeedRef(ref),
                         delete_feed_ref, GConnectFlags{});
   ++ref->media_created;
-  std::lock_guard lock(ref->mutex);
-  ref->media = Media::share(media);
-  ref->appsrc = std::move(src);
-  ref->rgb = {};  // caps are set with the next frame
+  {
+    std::lock_guard lock(ref->mutex);
+    ref->media = Media::share(media);
+    ref->appsrc = std::move(src);
+    ref->need_keyframe = true;
+  }
+  // The media is prepared once its payloader has seen SPS/PPS: a keyframe now, not at the
+  // next periodic one (up to keyframe_interval frames away when WebRTC keeps the encoder busy).
+  ref->request_keyframe();
+}
+
+// A client joining the shared media mid-stream: its player can start only at a keyframe.
+void on_play_request(GstRTSPClient*, GstRTSPContext*, gpointer data) {
+  (*static_cast<FeedRef*>(data))->request_keyframe();
+}
+
+void on_client_connected(GstRTSPServer*, GstRTSPClient* client, gpointer data) {
+  g_signal_connect_data(client, "play-request", G_CALLBACK(on_play_request),
+                        new FeedRef(*static_cast<FeedRef*>(data)), delete_feed_ref,
+                        GConnectFlags{});
 }
 
 gboolean quit_loop(gpointer loop) {
@@ -135,32 +178,9 @@ nlohmann::json to_json(const RtspServerStats& s) {
           {"frames_pushed", s.frames_pushed},
           {"frames_sent", s.frames_sent},
           {"dropped_no_client", s.dropped_no_client},
-          {"dropped_queue_full", s.dropped_queue_full}};
-}
-
-std::string choose_h264_encoder(const std::string& wanted) {
-  gst::ensure_gstreamer();
-  const bool v4l2 = has_element("v4l2h264enc"), x264 = has_element("x264enc");
-  if (wanted == "auto") {
-    if (v4l2) return "v4l2h264enc";
-    if (x264) return "x264enc";
-    throw RtspServerError(
-        "rtsp: no H.264 encoder: GStreamer has neither v4l2h264enc (a V4L2 memory-to-memory "
-        "encoder of the board, gstreamer1.0-plugins-good) nor x264enc (install "
-        "gstreamer1.0-plugins-ugly)");
-  }
-  if (wanted == "x264enc") {
-    if (!x264) throw RtspServerError("rtsp: x264enc not found: install gstreamer1.0-plugins-ugly");
-    return wanted;
-  }
-  if (wanted == "v4l2h264enc") {
-    if (!v4l2)
-      throw RtspServerError(
-          "rtsp: v4l2h264enc not found: GStreamer's video4linux2 plugin "
-          "(gstreamer1.0-plugins-good) found no V4L2 H.264 encoder device on this machine");
-    return wanted;
-  }
-  throw RtspServerError("rtsp: encoder '" + wanted + "' is not one of auto, v4l2h264enc, x264enc");
+          {"dropped_queue_full", s.dropped_queue_full},
+          {"access_units_sent", s.access_units_sent},
+          {"keyframe_requests", s.keyframe_requests}};
 }
 
 void check_rtsp_path(const std::string& path) {
@@ -174,8 +194,9 @@ void check_rtsp_path(const std::string& path) {
 
 struct RtspServer::Impl {
   RtspServerConfig config;
-  std::string encoder;
+  std::shared_ptr<H264Encoder> encoder;
   FeedRef feed = std::make_shared<Feed>();
+  H264Encoder::Subscription subscription;  // before `feed` goes: its callback uses it
   Server server;
   MediaFactory factory;
   gst::MainContext context;
@@ -189,45 +210,43 @@ struct RtspServer::Impl {
   gst::Source heartbeat_source;
 };
 
-RtspServer::RtspServer(RtspServerConfig config) : impl_(std::make_unique<Impl>()) {
+RtspServer::RtspServer(RtspServerConfig config, std::shared_ptr<H264Encoder> encoder)
+    : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.config = std::move(config);
   const RtspServerConfig& c = m.config;
   check_rtsp_path(c.path);
   if (c.port < 0 || c.port > 65535) throw RtspServerError("rtsp: port out of range");
-  if (c.bitrate_kbps < 64 || c.bitrate_kbps > 100000)
-    throw RtspServerError("rtsp: bitrate_kbps must be in 64..100000");
-  if (c.keyframe_interval < 1 || c.keyframe_interval > 600)
-    throw RtspServerError("rtsp: keyframe_interval must be in 1..600 frames");
-  if (c.framerate < 1 || c.framerate > 240)
-    throw RtspServerError("rtsp: framerate must be in 1..240");
-  if (c.max_queued_frames < 1) throw RtspServerError("rtsp: max_queued_frames must be >= 1");
-  m.encoder = choose_h264_encoder(c.encoder);
+  gst::ensure_gstreamer();
   for (const auto& e : kRequired)
     if (!has_element(e.name))
       throw RtspServerError(
           fmt::format("rtsp: GStreamer element {} not found: install {}", e.name, e.package));
-  m.feed->max_queued_frames = c.max_queued_frames;
-  m.feed->framerate = c.framerate;
+  m.encoder = encoder ? std::move(encoder) : std::make_shared<H264Encoder>(c);
+  m.feed->encoder = m.encoder;
+  m.subscription = m.encoder->subscribe(
+      [feed = m.feed.get()](const H264AccessUnit& u) { feed->on_access_unit(u); });
 
-  // I420: left to itself videoconvert would offer the encoder 4:4:4, which x264 encodes in a
-  // profile few players (and no hardware decoder) accept.
-  const std::string launch = fmt::format(
+  // The encoder's access units as they come: SPS/PPS go in-band before every keyframe
+  // (config-interval=-1), so a player joining the shared media starts at the next one.
+  // rtph264pay takes the byte-stream as is (no h264parse: RTSP alone needs no plugins-bad).
+  const std::string launch =
       "( appsrc name=src is-live=true format=time do-timestamp=false block=false "
-      "! videoconvert ! video/x-raw,format=I420 ! {} "
-      "! rtph264pay name=pay0 pt=96 config-interval=-1 )",
-      h264_encoder_launch(m.encoder, c));
+      "caps=video/x-h264,stream-format=byte-stream,alignment=au "
+      "! rtph264pay name=pay0 pt=96 config-interval=-1 )";
   m.factory = MediaFactory::adopt(gst_rtsp_media_factory_new());
   gst_rtsp_media_factory_set_launch(m.factory.get(), launch.c_str());
   gst_rtsp_media_factory_set_shared(m.factory.get(), TRUE);
   // The system clock is CLOCK_MONOTONIC, the clock the frames are stamped with: a frame's
-  // capture time minus the pipeline's base time is its running time.
+  // capture time minus the media's base time is its running time.
   Clock clock = Clock::adopt(gst_system_clock_obtain());
   gst_rtsp_media_factory_set_clock(m.factory.get(), clock.get());
   g_signal_connect_data(m.factory.get(), "media-configure", G_CALLBACK(on_media_configure),
                         new FeedRef(m.feed), delete_feed_ref, GConnectFlags{});
 
   m.server = Server::adopt(gst_rtsp_server_new());
+  g_signal_connect_data(m.server.get(), "client-connected", G_CALLBACK(on_client_connected),
+                        new FeedRef(m.feed), delete_feed_ref, GConnectFlags{});
   gst_rtsp_server_set_address(m.server.get(), c.address.c_str());
   gst_rtsp_server_set_service(m.server.get(), std::to_string(c.port).c_str());
   {
@@ -260,7 +279,7 @@ RtspServer::RtspServer(RtspServerConfig config) : impl_(std::make_unique<Impl>()
     g_main_context_pop_thread_default(m.context.get());
   });
   spdlog::info("rtsp: serving {} (H.264 by {}, {} kbit/s, keyframe every {} frames)", url(),
-               m.encoder, c.bitrate_kbps, c.keyframe_interval);
+               m.encoder->name(), c.bitrate_kbps, c.keyframe_interval);
 }
 
 RtspServer::~RtspServer() {
@@ -278,36 +297,34 @@ std::string RtspServer::url() const {
 }
 
 std::string RtspServer::encoder_name() const {
+  return impl_->encoder->name();
+}
+
+std::shared_ptr<H264Encoder> RtspServer::encoder() const {
   return impl_->encoder;
 }
 
 void RtspServer::push(std::shared_ptr<const ImageRGB8> frame, TimestampNs capture_ns) {
-  Feed& feed = *impl_->feed;
+  Impl& m = *impl_;
+  Feed& feed = *m.feed;
   ++feed.pushed;
   if (!frame || frame->empty()) return;
-  std::lock_guard lock(feed.mutex);
-  GstElement* src = feed.appsrc.get();
-  if (!src) {
-    ++feed.no_client;
-    return;
+  {
+    std::lock_guard lock(feed.mutex);
+    // No media, or one prepared but paused: the encoder is left to WebRTC's clients, if any.
+    if (!feed.appsrc || !is_playing(feed.appsrc.get())) {
+      ++feed.no_client;
+      return;
+    }
   }
-  GST_OBJECT_LOCK(src);
-  const bool playing = GST_STATE(src) == GST_STATE_PLAYING;
-  GST_OBJECT_UNLOCK(src);
-  if (!playing) {  // prepared but paused: a live source would only queue stale frames
-    ++feed.no_client;
-    return;
-  }
-  switch (gst::push_rgb_frame(GST_APP_SRC(src), feed.rgb, std::move(frame), capture_ns,
-                              gst_element_get_base_time(src), feed.framerate,
-                              feed.max_queued_frames)) {
-    case gst::FeedResult::Sent:
+  switch (m.encoder->push(std::move(frame), capture_ns)) {
+    case H264Encoder::Fed::Sent:
       ++feed.sent;
       break;
-    case gst::FeedResult::QueueFull:
+    case H264Encoder::Fed::QueueFull:
       ++feed.queue_full;
       break;
-    case gst::FeedResult::Refused:  // flushing: the media is being torn down
+    case H264Encoder::Fed::Stopped:
       ++feed.no_client;
       break;
   }
@@ -320,8 +337,10 @@ void RtspServer::stop() {
     if (m.stopped) return;
     m.stopped = true;
   }
-  // Close the connections and their sessions, then the media: its pipeline is in NULL and
-  // its threads have stopped when unprepare returns.
+  // No access unit comes in after this (a shared encoder goes on for WebRTC). Then close the
+  // connections and their sessions, then the media: its pipeline is in NULL and its threads
+  // have stopped when unprepare returns.
+  m.subscription.reset();
   gst_rtsp_server_client_filter(m.server.get(), remove_client, nullptr);
   {
     auto sessions = SessionPool::adopt(gst_rtsp_server_get_session_pool(m.server.get()));
@@ -346,11 +365,16 @@ void RtspServer::stop() {
   spdlog::info("rtsp: stopped ({} frames sent)", m.feed->sent.load());
 }
 
+void RtspServer::add_status(nlohmann::json& status) const {
+  status["rtsp"] = to_json(stats());
+  status["h264"] = to_json(impl_->encoder->stats());
+}
+
 RtspServerStats RtspServer::stats() const {
   const Impl& m = *impl_;
   RtspServerStats s;
   s.url = url();
-  s.encoder = m.encoder;
+  s.encoder = m.encoder->name();
   GList* clients = gst_rtsp_server_client_filter(m.server.get(), nullptr, nullptr);
   s.clients = static_cast<int>(g_list_length(clients));
   g_list_free_full(clients, g_object_unref);
@@ -360,6 +384,8 @@ RtspServerStats RtspServer::stats() const {
   s.frames_sent = f.sent;
   s.dropped_no_client = f.no_client;
   s.dropped_queue_full = f.queue_full;
+  s.access_units_sent = f.units;
+  s.keyframe_requests = f.keyframes;
   return s;
 }
 

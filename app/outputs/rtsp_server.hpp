@@ -3,16 +3,18 @@
 // players that want a real video stream: `ffplay -rtsp_transport tcp rtsp://HOST:8554/probeless`,
 // VLC, NVRs and Home Assistant's generic camera.
 //
-// One shared media (one encoder, whatever the number of clients):
+// One shared media, whatever the number of clients, fed the service's one H.264 encoder
+// (app/outputs/h264_encoder.hpp, shared with the WebRTC output):
 //
-//   appsrc (RGB, PTS from the frames' capture clock) ! videoconvert ! I420 ! H.264 encoder
+//   appsrc (H.264 access units, PTS from the frames' capture clock)
 //     ! rtph264pay (SPS/PPS with every keyframe, so a client joining late starts at the next)
 //
 // The encoder is the board's V4L2 memory-to-memory one (v4l2h264enc) when GStreamer has it,
-// else x264enc (ultrafast, zerolatency); encoder_name() says which. The GLib main loop runs
-// on this object's own thread. push() (offer() as a pipeline Output) never blocks the pipeline:
-// with no client playing, or with the encoder `max_queued_frames` behind, the frame is dropped and
-// counted. docs/outputs.md "RTSP" has the details and the measured cost.
+// else x264enc (ultrafast, zerolatency); encoder_name() says which. A new media and a client's
+// PLAY ask it for a keyframe. The GLib main loop runs on this object's own thread. push()
+// (offer() as a pipeline Output) never blocks the pipeline: with no client playing, or with the
+// encoder `max_queued_frames` behind, the frame is dropped and counted. docs/outputs.md "RTSP"
+// has the details and the measured cost.
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -55,11 +57,13 @@ struct RtspServerStats {
   std::string url;
   std::string encoder;
   int clients = 0;                       // RTSP connections open
-  std::uint64_t media_created = 0;       // encoder pipelines built: one per viewing period
+  std::uint64_t media_created = 0;       // media pipelines built: one per viewing period
   std::uint64_t frames_pushed = 0;       // offered to push()
-  std::uint64_t frames_sent = 0;         // handed to the encoder
-  std::uint64_t dropped_no_client = 0;   // nobody playing: not encoded at all
+  std::uint64_t frames_sent = 0;         // handed to the encoder (or handed by WebRTC already)
+  std::uint64_t dropped_no_client = 0;   // nobody playing: not encoded for RTSP
   std::uint64_t dropped_queue_full = 0;  // the encoder was behind
+  std::uint64_t access_units_sent = 0;   // encoded pictures into the media
+  std::uint64_t keyframe_requests = 0;   // new media, clients' PLAYs, restarts after a drop
 };
 
 nlohmann::json to_json(const RtspServerStats& stats);
@@ -68,22 +72,17 @@ struct RtspServerError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// "auto", "v4l2h264enc" or "x264enc" resolved against the installed GStreamer plugins;
-// RtspServerError naming the Debian package to install when the wanted one is missing.
-std::string choose_h264_encoder(const std::string& wanted);
-
-// The encoder's gst-launch description with the config's bitrate and keyframe interval (the
-// WebRTC output's encoder is the same, app/outputs/webrtc_output.hpp).
-std::string h264_encoder_launch(const std::string& encoder, const RtspServerConfig& config);
-
 // Throws RtspServerError for a mount path gst-rtsp-server would not serve as written.
 void check_rtsp_path(const std::string& path);
+
+class H264Encoder;
 
 class RtspServer final : public Output {
  public:
   // Checks the plugins, binds and starts serving; throws RtspServerError with the reason
-  // (port in use, encoder missing, bad path or config).
-  explicit RtspServer(RtspServerConfig config);
+  // (port in use, encoder missing, bad path or config). Without `encoder`, one of its own
+  // from `config`; the service hands the one it shares with WebRTC (output_factory.hpp).
+  explicit RtspServer(RtspServerConfig config, std::shared_ptr<H264Encoder> encoder = nullptr);
   ~RtspServer() override;
   RtspServer(const RtspServer&) = delete;
   RtspServer& operator=(const RtspServer&) = delete;
@@ -93,6 +92,7 @@ class RtspServer final : public Output {
   int port() const;                  // the bound port (the ephemeral one with port 0)
   std::string url() const override;  // "rtsp://127.0.0.1:8554/probeless"
   std::string encoder_name() const;  // "x264enc" or "v4l2h264enc"
+  std::shared_ptr<H264Encoder> encoder() const;
 
   // Any thread; never blocks. The frame is referenced, not copied, until encoded.
   // `capture_ns` is the frame's CLOCK_MONOTONIC capture time: it becomes the PTS.
@@ -105,10 +105,11 @@ class RtspServer final : public Output {
   // frame's capture time; the stream shows it now.
   std::string_view name() const override { return "rtsp"; }
   OutputNeeds needs() const override { return {.colour = true}; }
-  void offer(const OutputFrame& frame) override {
-    push(frame.colour, frame.no_signal ? monotonic_now_ns() : frame.timestamp_ns);
-  }
-  void add_status(nlohmann::json& status) const override { status["rtsp"] = to_json(stats()); }
+  // The frame's own time even for a repeat: WebRTC offers it too, and the shared encoder
+  // takes one (frame, time) once; it shows a time not after the last frame's now.
+  void offer(const OutputFrame& frame) override { push(frame.colour, frame.timestamp_ns); }
+  // "rtsp", and "h264": the encoder's (the same object as WebRTC's when both are on).
+  void add_status(nlohmann::json& status) const override;
   // The main loop beats "rtsp" every 250 ms from a timeout source (issue #20 item 6).
   void watch(HeartbeatRegistry& heartbeats) override;
 

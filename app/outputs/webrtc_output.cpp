@@ -1,9 +1,6 @@
 #include "app/outputs/webrtc_output.hpp"
 
 #include <fmt/format.h>
-#include <gst/app/gstappsink.h>
-#include <gst/app/gstappsrc.h>
-#include <gst/video/video.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -16,6 +13,7 @@
 #include <thread>
 
 #include "app/outputs/gst_objects.hpp"
+#include "app/outputs/h264_encoder.hpp"
 #include "app/outputs/webrtc_session.hpp"
 
 namespace probeless {
@@ -32,8 +30,7 @@ constexpr RequiredElement kRequired[] = {{"webrtcbin", "gstreamer1.0-plugins-bad
                                          {"nicesrc", "gstreamer1.0-nice"},
                                          {"rtph264pay", "gstreamer1.0-plugins-good"},
                                          {"capssetter", "gstreamer1.0-plugins-good"},
-                                         {"appsrc", "gstreamer1.0-plugins-base"},
-                                         {"videoconvert", "gstreamer1.0-plugins-base"}};
+                                         {"appsrc", "gstreamer1.0-plugins-base"}};
 
 bool has_element(const char* name) {
   return static_cast<bool>(gst::ElementFactory::adopt(gst_element_factory_find(name)));
@@ -46,10 +43,6 @@ std::string new_session_id() {
   std::lock_guard lock(mutex);
   return fmt::format("{:016x}{:016x}", rng(), rng());
 }
-
-// Keyframes asked for more often than this are one keyframe: a burst of PLIs from several
-// sessions (or one client's retries) must not turn the stream into all-intra.
-constexpr TimestampNs kKeyframeSpacingNs = 250'000'000;
 
 }  // namespace
 
@@ -79,19 +72,13 @@ nlohmann::json to_json(const WebRtcStats& s) {
 
 struct WebRtcOutput::Impl {
   WebRtcConfig config;
-  RtspServerConfig h264;
-  std::string encoder;
-
-  // The shared encoder; `feed_mutex` guards what push() keeps between frames.
-  gst::Element pipeline, appsrc, appsink;
-  std::mutex feed_mutex;
-  gst::RgbFeed rgb;
-  std::atomic<TimestampNs> last_keyframe_request{0};
+  std::shared_ptr<H264Encoder> encoder;
 
   // Sessions: fed on the encoder's thread, made and ended on the worker.
   mutable std::mutex sessions_mutex;
   std::map<std::string, std::unique_ptr<webrtc::Session>> sessions;
   std::atomic<int> streaming{0};
+  H264Encoder::Subscription subscription;  // before `sessions` go: its callback uses them
 
   // The worker's queue: offers, DELETEs, and wake-ups to look at the sessions' states.
   struct Offer {
@@ -109,9 +96,10 @@ struct WebRtcOutput::Impl {
   std::atomic<std::uint64_t> pushed{0}, encoded{0}, no_client{0}, queue_full{0}, keyframes{0},
       total{0}, refused{0};
 
-  void start_encoder();
-  void request_keyframe();
-  void on_access_unit(GstSample* sample);
+  void request_keyframe() {
+    if (encoder->request_keyframe()) ++keyframes;
+  }
+  void on_access_unit(const H264AccessUnit& unit);
   void run(std::stop_token stop);
   void answer(Offer offer);
   void sweep();
@@ -122,87 +110,44 @@ struct WebRtcOutput::Impl {
   }
 };
 
-void WebRtcOutput::Impl::start_encoder() {
-  // Constrained baseline: the profile every browser's WebRTC decodes (Chromium offers it
-  // first); x264 at ultrafast is already within it.
-  const std::string launch = fmt::format(
-      "appsrc name=src is-live=true format=time do-timestamp=false block=false "
-      "! videoconvert ! video/x-raw,format=I420 ! {} "
-      "! video/x-h264,profile=constrained-baseline,stream-format=byte-stream,alignment=au "
-      "! appsink name=sink sync=false max-buffers=8 drop=true",
-      h264_encoder_launch(encoder, h264));
-  GError* raw = nullptr;
-  pipeline = gst::Element::adopt_sink(gst_parse_launch(launch.c_str(), &raw));
-  std::unique_ptr<GError, gst::ErrorDeleter> error(raw);
-  if (!pipeline || error)
-    throw WebRtcError(fmt::format("webrtc: cannot build the encoder: {}",
-                                  error ? error->message : "no reason given"));
-  appsrc = gst::Element::adopt(gst_bin_get_by_name(GST_BIN(pipeline.get()), "src"));
-  appsink = gst::Element::adopt(gst_bin_get_by_name(GST_BIN(pipeline.get()), "sink"));
-  // The system clock is CLOCK_MONOTONIC, the frames' clock: capture time minus the base time
-  // is a frame's running time, and back.
-  auto clock = gst::Ref<GstClock, gst_object_unref>::adopt(gst_system_clock_obtain());
-  gst_pipeline_use_clock(GST_PIPELINE(pipeline.get()), clock.get());
-  GstAppSinkCallbacks callbacks{};
-  callbacks.new_sample = [](GstAppSink* sink, gpointer self) {
-    auto sample = gst::Sample::adopt(gst_app_sink_pull_sample(sink));
-    if (sample) static_cast<Impl*>(self)->on_access_unit(sample.get());
-    return GST_FLOW_OK;
-  };
-  gst_app_sink_set_callbacks(GST_APP_SINK(appsink.get()), &callbacks, this, nullptr);
-  if (gst_element_set_state(pipeline.get(), GST_STATE_PLAYING) == GST_STATE_CHANGE_FAILURE)
-    throw WebRtcError("webrtc: the encoder pipeline does not start");
-}
-
-void WebRtcOutput::Impl::request_keyframe() {
-  const TimestampNs now = monotonic_now_ns();
-  TimestampNs last = last_keyframe_request;
-  if (now - last < kKeyframeSpacingNs || !last_keyframe_request.compare_exchange_strong(last, now))
-    return;
-  ++keyframes;
-  gst_element_send_event(appsink.get(),
-                         gst_video_event_new_upstream_force_key_unit(GST_CLOCK_TIME_NONE, TRUE, 0));
-}
-
-void WebRtcOutput::Impl::on_access_unit(GstSample* sample) {
-  GstBuffer* buffer = gst_sample_get_buffer(sample);
-  if (!buffer) return;
-  ++encoded;
-  // Through the segment: a video encoder moves its output 1000 hours later (so that DTS
-  // before PTS is never negative) and says so in the segment.
-  const GstSegment* segment = gst_sample_get_segment(sample);
-  const GstClockTime running =
-      segment ? gst_segment_to_running_time(segment, GST_FORMAT_TIME, GST_BUFFER_PTS(buffer))
-              : GST_CLOCK_TIME_NONE;
-  const TimestampNs capture =
-      GST_CLOCK_TIME_IS_VALID(running)
-          ? static_cast<TimestampNs>(running + gst_element_get_base_time(pipeline.get()))
-          : monotonic_now_ns();
+void WebRtcOutput::Impl::on_access_unit(const H264AccessUnit& unit) {
   std::lock_guard lock(sessions_mutex);
-  for (auto& [id, session] : sessions) session->push(buffer, capture);
+  if (sessions.empty()) return;  // RTSP's frame
+  ++encoded;
+  for (auto& [id, session] : sessions) session->push(unit.buffer, unit.capture_ns);
 }
 
 WebRtcOutput::WebRtcOutput(WebRtcConfig config, const RtspServerConfig& h264)
-    : impl_(std::make_shared<Impl>()) {
-  Impl& m = *impl_;
-  m.config = std::move(config);
-  m.h264 = h264;
-  if (m.config.max_sessions < 1) throw WebRtcError("webrtc: max_sessions must be >= 1");
-  if (m.config.gather_timeout_ms < 10) throw WebRtcError("webrtc: gather_timeout_ms must be >= 10");
-  if (m.config.max_queued_frames < 1) throw WebRtcError("webrtc: max_queued_frames must be >= 1");
+    : WebRtcOutput(std::move(config), own_encoder(h264)) {}
+
+std::shared_ptr<H264Encoder> WebRtcOutput::own_encoder(const RtspServerConfig& h264) {
   if (const std::string missing = webrtc_missing_plugins(); !missing.empty())
     throw WebRtcError("webrtc: " + missing);
   try {
-    m.encoder = choose_h264_encoder(h264.encoder);
+    return std::make_shared<H264Encoder>(h264);
   } catch (const RtspServerError& e) {
     throw WebRtcError(std::string("webrtc: ") + e.what());
   }
-  m.start_encoder();
+}
+
+WebRtcOutput::WebRtcOutput(WebRtcConfig config, std::shared_ptr<H264Encoder> encoder)
+    : impl_(std::make_shared<Impl>()) {
+  Impl& m = *impl_;
+  m.config = std::move(config);
+  if (m.config.max_sessions < 1) throw WebRtcError("webrtc: max_sessions must be >= 1");
+  if (m.config.gather_timeout_ms < 10) throw WebRtcError("webrtc: gather_timeout_ms must be >= 10");
+  if (const std::string missing = webrtc_missing_plugins(); !missing.empty())
+    throw WebRtcError("webrtc: " + missing);
+  if (!encoder) throw WebRtcError("webrtc: no H.264 encoder");
+  m.encoder = std::move(encoder);
+  m.subscription =
+      m.encoder->subscribe([&m](const H264AccessUnit& unit) { m.on_access_unit(unit); });
   m.worker = std::jthread([&m](std::stop_token stop) { m.run(stop); });
-  spdlog::info(
-      "webrtc: WHEP sessions up to {}, H.264 by {}, ICE on {}", m.config.max_sessions, m.encoder,
-      m.config.ice_addresses.empty() ? std::string("every interface")
-                                     : fmt::format("{}", fmt::join(m.config.ice_addresses, ", ")));
+  spdlog::info("webrtc: WHEP sessions up to {}, H.264 by {}, ICE on {}", m.config.max_sessions,
+               m.encoder->name(),
+               m.config.ice_addresses.empty()
+                   ? std::string("every interface")
+                   : fmt::format("{}", fmt::join(m.config.ice_addresses, ", ")));
 }
 
 WebRtcOutput::~WebRtcOutput() {
@@ -210,6 +155,10 @@ WebRtcOutput::~WebRtcOutput() {
 }
 
 std::string WebRtcOutput::encoder_name() const {
+  return impl_->encoder->name();
+}
+
+std::shared_ptr<H264Encoder> WebRtcOutput::encoder() const {
   return impl_->encoder;
 }
 
@@ -217,17 +166,25 @@ void WebRtcOutput::push(std::shared_ptr<const ImageRGB8> frame, TimestampNs capt
   Impl& m = *impl_;
   ++m.pushed;
   if (!frame || frame->empty()) return;
-  if (m.streaming == 0) {  // nobody watching: not even converted
+  if (m.streaming == 0) {  // nobody watching here: the encoder is left to RTSP's clients, if any
     ++m.no_client;
     return;
   }
-  std::lock_guard lock(m.feed_mutex);
-  if (!m.appsrc) return;
-  const gst::FeedResult fed = gst::push_rgb_frame(
-      GST_APP_SRC(m.appsrc.get()), m.rgb, std::move(frame), capture_ns,
-      gst_element_get_base_time(m.pipeline.get()), m.h264.framerate, m.config.max_queued_frames);
-  if (fed == gst::FeedResult::QueueFull) ++m.queue_full;
-  if (fed == gst::FeedResult::Refused) ++m.no_client;
+  switch (m.encoder->push(std::move(frame), capture_ns)) {
+    case H264Encoder::Fed::Sent:
+      break;
+    case H264Encoder::Fed::QueueFull:
+      ++m.queue_full;
+      break;
+    case H264Encoder::Fed::Stopped:
+      ++m.no_client;
+      break;
+  }
+}
+
+void WebRtcOutput::add_status(nlohmann::json& status) const {
+  status["webrtc"] = to_json(stats());
+  status["h264"] = to_json(impl_->encoder->stats());
 }
 
 void WebRtcOutput::offer(std::string sdp, Done done) {
@@ -383,20 +340,16 @@ void WebRtcOutput::stop() {
     if (m.stopped) return;
     m.stopped = true;
   }
+  m.subscription.reset();  // no access unit after this (a shared encoder goes on for RTSP)
   m.worker.request_stop();
   if (m.worker.joinable()) m.worker.join();
-  {
-    std::lock_guard lock(m.feed_mutex);
-    m.appsrc.reset();
-  }
-  if (m.pipeline) gst_element_set_state(m.pipeline.get(), GST_STATE_NULL);
   spdlog::info("webrtc: stopped ({} sessions served)", m.total.load());
 }
 
 WebRtcStats WebRtcOutput::stats() const {
   const Impl& m = *impl_;
   WebRtcStats s;
-  s.encoder = m.encoder;
+  s.encoder = m.encoder->name();
   {
     std::lock_guard lock(m.sessions_mutex);
     s.sessions = static_cast<int>(m.sessions.size());

@@ -3,21 +3,21 @@
 // (app/outputs/whep_endpoint.hpp): about a tenth of MJPEG's bandwidth, played by a plain
 // RTCPeerConnection in the viewer page. docs/outputs.md "WebRTC (WHEP)".
 //
-// One encoder for every session, with the RTSP output's choice and settings (v4l2h264enc or
-// x264enc, [rtsp] bitrate, keyframe interval, frame rate), kept to constrained baseline so
-// that every browser decodes it:
+// One encoder for every session, the service's H.264 encoder (app/outputs/h264_encoder.hpp),
+// shared with the RTSP output when both are on, kept to constrained baseline so that every
+// browser decodes it:
 //
-//   appsrc (RGB) ! videoconvert ! I420 ! encoder ! appsink    (access units, shared)
+//   appsrc (RGB) ! videoconvert ! I420 ! encoder ! appsink    (access units, H264Encoder)
 //
 // and one small pipeline per session, fed the same access units:
 //
 //   appsrc (H.264) ! rtph264pay (the offer's payload type) ! webrtcbin (ICE, DTLS-SRTP)
 //
-// The encoder runs only while a session streams; a new session asks it for a keyframe, and so
-// does a client's PLI. ICE uses host candidates on `ice_addresses` only (loopback by
-// default), no STUN or TURN; the answer waits for ICE gathering to complete, so it carries
-// every candidate (WHEP without trickle). Offers are handled one at a time on this output's
-// own thread, which also ends sessions whose peer failed or left.
+// Frames go to the encoder only while a session streams; a new session asks it for a
+// keyframe, and so does a client's PLI. ICE uses host candidates on `ice_addresses` only
+// (loopback by default), no STUN or TURN; the answer waits for ICE gathering to complete, so
+// it carries every candidate (WHEP without trickle). Offers are handled one at a time on this
+// output's own thread, which also ends sessions whose peer failed or left.
 #include <cstdint>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -51,8 +51,6 @@ struct WebRtcConfig {
   // is ended (a browser tab closed without DELETE, a lost network). Above RTCP's interval:
   // browsers report every second, GStreamer's clients every 5 s (+-50 %) by default.
   int disconnected_timeout_s = 10;
-  // Frames waiting for the encoder before new ones are dropped (as [rtsp]).
-  int max_queued_frames = 2;
 };
 
 struct WebRtcStats {
@@ -61,8 +59,8 @@ struct WebRtcStats {
   std::uint64_t sessions_total = 0;      // answered since start
   std::uint64_t offers_refused = 0;      // bad offers, the session cap, failures
   std::uint64_t frames_pushed = 0;       // offered to push()
-  std::uint64_t frames_encoded = 0;      // access units out of the encoder
-  std::uint64_t dropped_no_client = 0;   // nobody streaming: not encoded at all
+  std::uint64_t frames_encoded = 0;      // access units of the encoder while sessions stream
+  std::uint64_t dropped_no_client = 0;   // nobody streaming: not encoded for WebRTC
   std::uint64_t dropped_queue_full = 0;  // the encoder was behind
   std::uint64_t keyframe_requests = 0;   // new sessions and clients' PLIs
 };
@@ -73,11 +71,16 @@ struct WebRtcError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+class H264Encoder;
+
 class WebRtcOutput final : public Output, public WhepEndpoint {
  public:
-  // Checks the plugins (webrtcbin, nice, the encoder), starts the encoder pipeline and the
-  // worker thread; throws WebRtcError naming the package to install.
+  // Checks the plugins (webrtcbin, nice, the encoder), starts an encoder of its own with the
+  // [rtsp] settings `h264` and the worker thread; throws WebRtcError naming the package to
+  // install.
   WebRtcOutput(WebRtcConfig config, const RtspServerConfig& h264);
+  // The same with the service's encoder, shared with RTSP (output_factory.hpp).
+  WebRtcOutput(WebRtcConfig config, std::shared_ptr<H264Encoder> encoder);
   ~WebRtcOutput() override;
   WebRtcOutput(const WebRtcOutput&) = delete;
   WebRtcOutput& operator=(const WebRtcOutput&) = delete;
@@ -85,6 +88,7 @@ class WebRtcOutput final : public Output, public WhepEndpoint {
   WebRtcOutput& operator=(WebRtcOutput&&) = delete;
 
   std::string encoder_name() const;
+  std::shared_ptr<H264Encoder> encoder() const;
 
   // Any thread; never blocks. `capture_ns` (CLOCK_MONOTONIC) becomes the frame's timestamp.
   void push(std::shared_ptr<const ImageRGB8> frame, TimestampNs capture_ns);
@@ -96,10 +100,11 @@ class WebRtcOutput final : public Output, public WhepEndpoint {
   // Output.
   std::string_view name() const override { return "webrtc"; }
   OutputNeeds needs() const override { return {.colour = true}; }
-  void offer(const OutputFrame& frame) override {
-    push(frame.colour, frame.no_signal ? monotonic_now_ns() : frame.timestamp_ns);
-  }
-  void add_status(nlohmann::json& status) const override { status["webrtc"] = to_json(stats()); }
+  // The frame's own time even for a repeat, as RtspServer::offer() (the shared encoder takes
+  // one (frame, time) once).
+  void offer(const OutputFrame& frame) override { push(frame.colour, frame.timestamp_ns); }
+  // "webrtc", and "h264": the encoder's (the same object as RTSP's when both are on).
+  void add_status(nlohmann::json& status) const override;
   // Ends every session, stops the encoder and joins the worker. Idempotent.
   void stop() override;
 
@@ -108,6 +113,7 @@ class WebRtcOutput final : public Output, public WhepEndpoint {
   struct Impl;
 
  private:
+  static std::shared_ptr<H264Encoder> own_encoder(const RtspServerConfig& h264);
   std::shared_ptr<Impl> impl_;
 };
 

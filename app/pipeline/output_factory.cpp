@@ -3,21 +3,41 @@
 #include <stdexcept>
 #include <string>
 
+#include "app/outputs/h264_encoder.hpp"
+
 namespace probeless {
+namespace {
+
+// The service's encoder, made by the first output that needs it; null without `shared` (the
+// output makes its own).
+std::shared_ptr<H264Encoder> shared_h264(const ServiceConfig& config, SharedOutputParts* shared) {
+  if (!shared) return nullptr;
+  if (!shared->h264) shared->h264 = std::make_shared<H264Encoder>(config.rtsp);
+  return shared->h264;
+}
+
+}  // namespace
 
 std::unique_ptr<Output> make_output(std::string_view name, const ServiceConfig& config,
-                                    HttpServer::StatusCallback status) {
+                                    HttpServer::StatusCallback status, SharedOutputParts* shared) {
   if (name == "http") {  // throws HttpServerError: the address cannot be bound
     if (!config.http.enabled) return nullptr;
     return std::make_unique<HttpServer>(config.http, std::move(status));
   }
   if (name == "rtsp") {  // throws RtspServerError: port in use, no encoder
     if (!config.rtsp.enabled) return nullptr;
-    return std::make_unique<RtspServer>(config.rtsp);
+    return std::make_unique<RtspServer>(config.rtsp, shared_h264(config, shared));
   }
   if (name == "webrtc") {  // throws WebRtcError: a plugin or the encoder missing
     if (!config.webrtc.enabled) return nullptr;
-    return std::make_unique<WebRtcOutput>(config.webrtc, config.rtsp);
+    if (!shared) return std::make_unique<WebRtcOutput>(config.webrtc, config.rtsp);
+    if (const std::string missing = webrtc_missing_plugins(); !missing.empty())
+      throw WebRtcError("webrtc: " + missing);
+    try {
+      return std::make_unique<WebRtcOutput>(config.webrtc, shared_h264(config, shared));
+    } catch (const RtspServerError& e) {  // the encoder's: [rtsp] settings, a missing plugin
+      throw WebRtcError(std::string("webrtc: ") + e.what());
+    }
   }
   if (name == "files") {  // throws filesystem_error: the directory cannot be made
     if (config.files.dir.empty()) return nullptr;

@@ -93,9 +93,11 @@ void Pipeline::start() {
 }
 
 void Pipeline::open_outputs() {
+  SharedOutputParts shared;  // RTSP and WebRTC: one H.264 encoder, held by both
   for (const std::string_view name : kOutputNames) {
     if (!options_.serve_http && (name == "http" || name == "rtsp" || name == "webrtc")) continue;
-    if (auto output = make_output(name, config_, [this] { return status(); })) {
+    if (auto output = make_output(
+            name, config_, [this] { return status(); }, &shared)) {
       std::lock_guard lock(outputs_mutex_);
       outputs_.push_back(std::move(output));
     }

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/outputs/h264_encoder.hpp"
 #include "rtsp_test_client.hpp"
 
 namespace probeless {
