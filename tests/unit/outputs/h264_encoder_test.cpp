@@ -20,6 +20,7 @@
 #include "app/outputs/webrtc_output.hpp"
 #include "app/pipeline/output_factory.hpp"
 #include "core/capture_stamp.hpp"
+#include "eventually.hpp"
 #include "lab/bench/whep_receiver.hpp"
 #include "rtsp_test_client.hpp"
 #include "test_images.hpp"
@@ -30,15 +31,7 @@ namespace {
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
 
-template <typename F>
-bool eventually(F condition, std::chrono::milliseconds timeout = 5s) {
-  const auto deadline = Clock::now() + timeout;
-  while (Clock::now() < deadline) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(10ms);
-  }
-  return condition();
-}
+using testing::eventually;
 
 // What a subscriber saw.
 struct Seen {

@@ -12,6 +12,7 @@
 
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/jpeg_encoder.hpp"
+#include "eventually.hpp"
 #include "http_test_client.hpp"
 #include "test_images.hpp"
 
@@ -51,15 +52,7 @@ nlohmann::json state_of(int port) {
   return nlohmann::json::parse(r.body);
 }
 
-template <typename F>
-bool eventually(F condition, std::chrono::milliseconds timeout = 5s) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(10ms);
-  }
-  return condition();
-}
+using testing::eventually;
 
 TEST(HttpCompat, StreamOptionsAreReadAsUstreamerReadsThem) {
   const StreamOptions none = parse_stream_options(nullptr);

@@ -13,6 +13,7 @@
 
 #include "app/outputs/http_server.hpp"
 #include "app/outputs/jpeg_encoder.hpp"
+#include "eventually.hpp"
 #include "http_test_client.hpp"
 #include "test_images.hpp"
 
@@ -35,15 +36,7 @@ EncodedFrame encoded(const ImageRGB8& image, int quality = 80) {
   return {encoder.encode_shared(image), monotonic_now_ns()};
 }
 
-template <typename F>
-bool eventually(F condition, std::chrono::milliseconds timeout = 10s) {
-  const auto deadline = Clock::now() + timeout;
-  while (Clock::now() < deadline) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(10ms);
-  }
-  return condition();
-}
+using testing::eventually;
 
 // True when the server has closed the connection (EOF or reset) within `timeout`.
 bool closed_within(TcpClient& client, std::chrono::milliseconds timeout) {

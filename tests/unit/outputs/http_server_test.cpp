@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "app/outputs/jpeg_encoder.hpp"
+#include "eventually.hpp"
 #include "http_test_client.hpp"
 #include "test_images.hpp"
 
@@ -53,15 +54,7 @@ class Publisher {
 };
 
 // Waits (generously) for a condition that depends on the server's thread.
-template <typename F>
-bool eventually(F condition, std::chrono::milliseconds timeout = 10s) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(10ms);
-  }
-  return condition();
-}
+using testing::eventually;
 
 TEST(HttpServer, BindsAnEphemeralPortOnLoopback) {
   HttpServer server(ephemeral());

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "app/outputs/h264_encoder.hpp"
+#include "eventually.hpp"
 #include "rtsp_test_client.hpp"
 
 namespace probeless {
@@ -167,15 +168,7 @@ double percentile(std::vector<double> v, double p) {
   return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
 }
 
-template <typename F>
-bool eventually(F condition, std::chrono::milliseconds timeout = 5s) {
-  const auto deadline = Clock::now() + timeout;
-  while (Clock::now() < deadline) {
-    if (condition()) return true;
-    std::this_thread::sleep_for(10ms);
-  }
-  return condition();
-}
+using testing::eventually;
 
 void expect_error(const RtspServerConfig& config, const std::string& fragment) {
   try {
