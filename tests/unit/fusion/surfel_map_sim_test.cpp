@@ -16,19 +16,24 @@
 namespace probeless::fusion {
 namespace {
 
+// Whether a surfel lies in the scene's box at world time t: 1 cm around it, and from 2 cm above
+// its base so that the table's noise (sigma_z ~4 mm at 1.7 m) under it does not count.
+auto in_box_at(sim::MovingScene scene, double t) {
+  const sim::Occluder objects = sim::moving_scene_objects(scene, t);
+  EXPECT_EQ(objects.boxes.size(), 1u);
+  Eigen::Vector3f lo = objects.boxes.at(0).lo - Eigen::Vector3f::Constant(0.01f);
+  const Eigen::Vector3f hi = objects.boxes.at(0).hi + Eigen::Vector3f::Constant(0.01f);
+  lo.z() = objects.boxes.at(0).lo.z() + 0.02f;
+  return [lo, hi](const Surfel& s) {
+    return (s.position.array() >= lo.array()).all() && (s.position.array() <= hi.array()).all();
+  };
+}
+
 TEST(SurfelMapSim, TheBoxThatAppearsIsFusedAndBecomesStable) {
   // 15 frames before the box appears at 2.0 s and 15 from then on, at 30 frames/s.
   Rig rig = sim::make_sim_rig(
       sim::parse_sim_options("realtime=0,trajectory=static,scene=box_appears,start=1.5,frames=30"));
-  const sim::Occluder objects = sim::moving_scene_objects(sim::MovingScene::BoxAppears, 2.0);
-  ASSERT_EQ(objects.boxes.size(), 1u);
-  // The box above the table's noise (sigma_z ~4 mm at 1.7 m): 2 cm up from its base.
-  Eigen::Vector3f lo = objects.boxes[0].lo - Eigen::Vector3f::Constant(0.01f);
-  const Eigen::Vector3f hi = objects.boxes[0].hi + Eigen::Vector3f::Constant(0.01f);
-  lo.z() = objects.boxes[0].lo.z() + 0.02f;
-  const auto in_box = [&](const Surfel& s) {
-    return (s.position.array() >= lo.array()).all() && (s.position.array() <= hi.array()).all();
-  };
+  const auto in_box = in_box_at(sim::MovingScene::BoxAppears, 2.0);
 
   SurfelMapParams params;
   params.region_centre = sim::light_probe_position().cast<float>();
@@ -86,11 +91,7 @@ TEST(SurfelMapSim, TheBoxThatAppearsIsFusedAndBecomesStable) {
 TEST(SurfelMapSim, TheRemovedBoxLeavesTheMapOnTheFrameItGoesWhereThereIsDepth) {
   Rig rig = sim::make_sim_rig(
       sim::parse_sim_options("realtime=0,trajectory=static,scene=box_removed,start=1.5,frames=20"));
-  const sim::Occluder objects = sim::moving_scene_objects(sim::MovingScene::BoxRemoved, 1.9);
-  ASSERT_EQ(objects.boxes.size(), 1u);
-  Eigen::Vector3f lo = objects.boxes[0].lo - Eigen::Vector3f::Constant(0.01f);
-  const Eigen::Vector3f hi = objects.boxes[0].hi + Eigen::Vector3f::Constant(0.01f);
-  lo.z() = objects.boxes[0].lo.z() + 0.02f;
+  const auto in_box = in_box_at(sim::MovingScene::BoxRemoved, 1.9);
   SurfelMapParams params;
   params.region_centre = sim::light_probe_position().cast<float>();
   params.region_radius_m = 0.5f;
@@ -105,8 +106,7 @@ TEST(SurfelMapSim, TheRemovedBoxLeavesTheMapOnTheFrameItGoesWhereThereIsDepth) {
     const Pose T_rgb_world = T_world_rgb.inverse();
     std::size_t on_box = 0, stable_on_box = 0, over_depth = 0;
     for (const Surfel& s : map.surfels()) {
-      if (!(s.position.array() >= lo.array()).all() || !(s.position.array() <= hi.array()).all())
-        continue;
+      if (!in_box(s)) continue;
       ++on_box;
       stable_on_box += map.is_stable(s);
       const Eigen::Vector3d pc = T_rgb_world * s.position.cast<double>();
