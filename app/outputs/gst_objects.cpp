@@ -1,8 +1,8 @@
 #include "app/outputs/gst_objects.hpp"
 
+#include <fmt/format.h>
 #include <gst/video/video.h>
 
-#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <mutex>
@@ -23,6 +23,17 @@ void ensure_gstreamer() {
     }
   });
   if (!failure.empty()) throw std::runtime_error(failure);
+}
+
+bool has_element(const char* name) {
+  return static_cast<bool>(ElementFactory::adopt(gst_element_factory_find(name)));
+}
+
+std::string missing_element(std::span<const RequiredElement> elements) {
+  for (const RequiredElement& e : elements)
+    if (!has_element(e.name))
+      return fmt::format("GStreamer element {} not found: install {}", e.name, e.package);
+  return {};
 }
 
 void throw_if_ended(GstElement* pipeline, const char* who) {
@@ -73,41 +84,6 @@ GstBuffer* wrap_rgb_frame(std::shared_ptr<const ImageRGB8> frame) {
                                    strides);
   }
   return buffer;
-}
-
-FeedResult push_rgb_frame(GstAppSrc* src, RgbFeed& feed, std::shared_ptr<const ImageRGB8> frame,
-                          TimestampNs capture_ns, GstClockTime base_time, int framerate,
-                          int max_queued_frames) {
-  const std::size_t frame_bytes = frame->size_bytes();
-  if (frame->width() != feed.width || frame->height() != feed.height) {
-    feed.width = frame->width();
-    feed.height = frame->height();
-    // A nominal constant rate, not 0/1 ("variable"): x264 given variable-rate input holds each
-    // frame until the next one arrives (measured: push-to-decoded p50 41 ms at 30 Hz, against
-    // 3 ms with a declared rate). The PTS still say when each frame was taken.
-    auto caps = Caps::adopt(gst_caps_new_simple(
-        "video/x-raw", "format", G_TYPE_STRING, "RGB", "width", G_TYPE_INT, feed.width, "height",
-        G_TYPE_INT, feed.height, "framerate", GST_TYPE_FRACTION, framerate, 1, nullptr));
-    gst_app_src_set_caps(src, caps.get());
-    gst_app_src_set_max_bytes(src, frame_bytes * static_cast<std::size_t>(max_queued_frames));
-  }
-  if (gst_app_src_get_current_level_bytes(src) >=
-      frame_bytes * static_cast<std::size_t>(max_queued_frames))
-    return FeedResult::QueueFull;
-  const auto capture = static_cast<GstClockTime>(capture_ns);
-  GstClockTime pts = capture > base_time ? capture - base_time : GST_CLOCK_TIME_NONE;
-  if (pts == GST_CLOCK_TIME_NONE ||
-      (feed.last_pts != GST_CLOCK_TIME_NONE && pts <= feed.last_pts)) {
-    // A repeated frame (NO SIGNAL) carries its old capture time, or none before the first
-    // good frame: it is shown now.
-    const GstClockTime now = static_cast<GstClockTime>(monotonic_now_ns()) - base_time;
-    pts = feed.last_pts != GST_CLOCK_TIME_NONE ? std::max(feed.last_pts + 1, now) : now;
-  }
-  feed.last_pts = pts;
-  GstBuffer* buffer = wrap_rgb_frame(std::move(frame));
-  GST_BUFFER_PTS(buffer) = pts;
-  return gst_app_src_push_buffer(src, buffer) == GST_FLOW_OK ? FeedResult::Sent
-                                                             : FeedResult::Refused;
 }
 
 }  // namespace probeless::gst

@@ -6,14 +6,14 @@
 // GStreamer hands out *floating* references for new elements: adopt() them through
 // adopt_sink(), which sinks the floating reference so that this wrapper owns a real one
 // whether or not the element is later added to a bin (a bin takes its own reference).
-#include <gst/app/gstappsrc.h>
 #include <gst/gst.h>
 
 #include <memory>
+#include <span>
+#include <string>
 #include <utility>
 
 #include "core/image.hpp"
-#include "core/time.hpp"
 
 namespace probeless::gst {
 
@@ -75,6 +75,17 @@ struct ErrorDeleter {
 // gst_init_check() once per process; throws std::runtime_error with GStreamer's reason.
 void ensure_gstreamer();
 
+// An element a pipeline needs and the Debian package that ships it.
+struct RequiredElement {
+  const char* name;
+  const char* package;
+};
+bool has_element(const char* name);  // its factory is registered (after ensure_gstreamer())
+// The first of `elements` not installed, as "GStreamer element NAME not found: install
+// PACKAGE"; empty when all are. The outputs check their pipelines' elements with it so that a
+// missing plugin is named with its package before a launch line fails without saying why.
+std::string missing_element(std::span<const RequiredElement> elements);
+
 // The packed RGB frame of a decoded video sample (an appsink's, caps video/x-raw RGB), copied
 // row by row past GStreamer's stride; std::runtime_error naming `who` without video caps or
 // when the buffer cannot be mapped. The RTSP clients' decode (tests, `bench latency`).
@@ -90,21 +101,5 @@ void throw_if_ended(GstElement* pipeline, const char* who);
 // video meta (GStreamer's default RGB stride is rounded up to 4 bytes; ours is not). The
 // H.264 encoder's input.
 GstBuffer* wrap_rgb_frame(std::shared_ptr<const ImageRGB8> frame);
-
-// What an RGB appsrc in front of an H.264 encoder keeps between frames (H264Encoder).
-struct RgbFeed {
-  int width = 0, height = 0;
-  GstClockTime last_pts = GST_CLOCK_TIME_NONE;
-};
-enum class FeedResult { Sent, QueueFull, Refused };
-
-// Pushes `frame` into `src`: caps (RGB at the nominal `framerate`) and a queue bound of
-// `max_queued_frames` frames when its size changes; nothing when that many frames wait
-// already; its PTS the capture time on `base_time`'s clock, and a repeated frame (NO SIGNAL,
-// an old capture time, or one before the pipeline started) shown now. Refused: the appsrc is
-// flushing (the pipeline going down).
-FeedResult push_rgb_frame(GstAppSrc* src, RgbFeed& feed, std::shared_ptr<const ImageRGB8> frame,
-                          TimestampNs capture_ns, GstClockTime base_time, int framerate,
-                          int max_queued_frames);
 
 }  // namespace probeless::gst

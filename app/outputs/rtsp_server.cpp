@@ -42,18 +42,10 @@ using SessionPool = gst::Ref<GstRTSPSessionPool, g_object_unref>;
 using Media = gst::Ref<GstRTSPMedia, g_object_unref>;
 using Clock = gst::Ref<GstClock, gst_object_unref>;
 
-bool has_element(const char* name) {
-  return static_cast<bool>(gst::ElementFactory::adopt(gst_element_factory_find(name)));
-}
-
 // The elements of the media, with the Debian package that ships each (the encoder's are
 // checked by H264Encoder).
-struct RequiredElement {
-  const char* name;
-  const char* package;
-};
-constexpr RequiredElement kRequired[] = {{"appsrc", "gstreamer1.0-plugins-base"},
-                                         {"rtph264pay", "gstreamer1.0-plugins-good"}};
+constexpr gst::RequiredElement kRequired[] = {{"appsrc", "gstreamer1.0-plugins-base"},
+                                              {"rtph264pay", "gstreamer1.0-plugins-good"}};
 
 // A player that stops reading (or a slow link) would otherwise queue access units without
 // end; past this the media skips to the next keyframe. ~1 s of 2 Mbit/s.
@@ -218,10 +210,8 @@ RtspServer::RtspServer(RtspServerConfig config, std::shared_ptr<H264Encoder> enc
   check_rtsp_path(c.path);
   if (c.port < 0 || c.port > 65535) throw RtspServerError("rtsp: port out of range");
   gst::ensure_gstreamer();
-  for (const auto& e : kRequired)
-    if (!has_element(e.name))
-      throw RtspServerError(
-          fmt::format("rtsp: GStreamer element {} not found: install {}", e.name, e.package));
+  if (const std::string missing = gst::missing_element(kRequired); !missing.empty())
+    throw RtspServerError("rtsp: " + missing);
   m.encoder = encoder ? std::move(encoder) : std::make_shared<H264Encoder>(c);
   m.feed->encoder = m.encoder;
   m.subscription = m.encoder->subscribe(

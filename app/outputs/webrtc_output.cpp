@@ -19,22 +19,14 @@
 namespace probeless {
 namespace {
 
-struct RequiredElement {
-  const char* name;
-  const char* package;
-};
-constexpr RequiredElement kRequired[] = {{"webrtcbin", "gstreamer1.0-plugins-bad"},
-                                         {"dtlssrtpenc", "gstreamer1.0-plugins-bad"},
-                                         {"srtpenc", "gstreamer1.0-plugins-bad"},
-                                         {"nicesink", "gstreamer1.0-nice"},
-                                         {"nicesrc", "gstreamer1.0-nice"},
-                                         {"rtph264pay", "gstreamer1.0-plugins-good"},
-                                         {"capssetter", "gstreamer1.0-plugins-good"},
-                                         {"appsrc", "gstreamer1.0-plugins-base"}};
-
-bool has_element(const char* name) {
-  return static_cast<bool>(gst::ElementFactory::adopt(gst_element_factory_find(name)));
-}
+constexpr gst::RequiredElement kRequired[] = {{"webrtcbin", "gstreamer1.0-plugins-bad"},
+                                              {"dtlssrtpenc", "gstreamer1.0-plugins-bad"},
+                                              {"srtpenc", "gstreamer1.0-plugins-bad"},
+                                              {"nicesink", "gstreamer1.0-nice"},
+                                              {"nicesrc", "gstreamer1.0-nice"},
+                                              {"rtph264pay", "gstreamer1.0-plugins-good"},
+                                              {"capssetter", "gstreamer1.0-plugins-good"},
+                                              {"appsrc", "gstreamer1.0-plugins-base"}};
 
 // A resource id a client cannot guess: DELETE of another viewer's session needs it.
 std::string new_session_id() {
@@ -52,10 +44,7 @@ std::string webrtc_missing_plugins() {
   } catch (const std::exception& e) {
     return e.what();
   }
-  for (const auto& e : kRequired)
-    if (!has_element(e.name))
-      return fmt::format("GStreamer element {} (install {})", e.name, e.package);
-  return {};
+  return gst::missing_element(kRequired);
 }
 
 nlohmann::json to_json(const WebRtcStats& s) {
@@ -118,9 +107,9 @@ void WebRtcOutput::Impl::on_access_unit(const H264AccessUnit& unit) {
 }
 
 WebRtcOutput::WebRtcOutput(WebRtcConfig config, const RtspServerConfig& h264)
-    : WebRtcOutput(std::move(config), own_encoder(h264)) {}
+    : WebRtcOutput(std::move(config), make_encoder(h264)) {}
 
-std::shared_ptr<H264Encoder> WebRtcOutput::own_encoder(const RtspServerConfig& h264) {
+std::shared_ptr<H264Encoder> WebRtcOutput::make_encoder(const RtspServerConfig& h264) {
   if (const std::string missing = webrtc_missing_plugins(); !missing.empty())
     throw WebRtcError("webrtc: " + missing);
   try {

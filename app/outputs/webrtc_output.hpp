@@ -81,6 +81,10 @@ class WebRtcOutput final : public Output, public WhepEndpoint {
   WebRtcOutput(WebRtcConfig config, const RtspServerConfig& h264);
   // The same with the service's encoder, shared with RTSP (output_factory.hpp).
   WebRtcOutput(WebRtcConfig config, std::shared_ptr<H264Encoder> encoder);
+  // An encoder for WebRTC from the [rtsp] settings, after checking WebRTC's own plugins (so
+  // that a missing webrtcbin is named before an encoder is started for nothing); WebRtcError
+  // naming the package to install or the setting.
+  static std::shared_ptr<H264Encoder> make_encoder(const RtspServerConfig& h264);
   ~WebRtcOutput() override;
   WebRtcOutput(const WebRtcOutput&) = delete;
   WebRtcOutput& operator=(const WebRtcOutput&) = delete;
@@ -113,7 +117,6 @@ class WebRtcOutput final : public Output, public WhepEndpoint {
   struct Impl;
 
  private:
-  static std::shared_ptr<H264Encoder> own_encoder(const RtspServerConfig& h264);
   std::shared_ptr<Impl> impl_;
 };
 

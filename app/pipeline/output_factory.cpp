@@ -31,13 +31,8 @@ std::unique_ptr<Output> make_output(std::string_view name, const ServiceConfig& 
   if (name == "webrtc") {  // throws WebRtcError: a plugin or the encoder missing
     if (!config.webrtc.enabled) return nullptr;
     if (!shared) return std::make_unique<WebRtcOutput>(config.webrtc, config.rtsp);
-    if (const std::string missing = webrtc_missing_plugins(); !missing.empty())
-      throw WebRtcError("webrtc: " + missing);
-    try {
-      return std::make_unique<WebRtcOutput>(config.webrtc, shared_h264(config, shared));
-    } catch (const RtspServerError& e) {  // the encoder's: [rtsp] settings, a missing plugin
-      throw WebRtcError(std::string("webrtc: ") + e.what());
-    }
+    if (!shared->h264) shared->h264 = WebRtcOutput::make_encoder(config.rtsp);
+    return std::make_unique<WebRtcOutput>(config.webrtc, shared->h264);
   }
   if (name == "files") {  // throws filesystem_error: the directory cannot be made
     if (config.files.dir.empty()) return nullptr;
