@@ -70,12 +70,11 @@ constexpr float kFusionRegionRadiusM = 0.5f;
 // The fusion's side of the light stage (issue #21 items 1 + 5 in their CPU references): the
 // surfel map fed every RGB-D frame with its truth pose, and the environment per snapshot.
 struct Fusion {
-  fusion::SurfelMap map;
-  Eigen::Vector3f centre;
+  fusion::SurfelMap map;                                  // its region centre is the sphere's
   std::optional<std::array<float, 3>> radiance_per_unit;  // empty: no exposure estimate yet
   std::int64_t frame = 0;
 
-  explicit Fusion(const Eigen::Vector3d& c) : map(params(c)), centre(c.cast<float>()) {}
+  explicit Fusion(const Eigen::Vector3d& c) : map(params(c)) {}
   static fusion::SurfelMapParams params(const Eigen::Vector3d& c) {
     fusion::SurfelMapParams p;
     p.region_centre = c.cast<float>();
@@ -97,7 +96,8 @@ struct Fusion {
     out.environment.reset();  // made from the keyframe alone; the judge makes its own
     fusion::SurfelEnvironmentOptions options;
     options.max_distance_m = kFusionRegionRadiusM;
-    fusion::render_surfels_into_environment(map.surfels(), centre, out.texels, options);
+    fusion::render_surfels_into_environment(map.surfels(), map.params().region_centre, out.texels,
+                                            options);
     return out;
   }
 };
