@@ -2,9 +2,11 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "app/render/renderer_internal.hpp"
 #include "app/render/sh_uniforms.hpp"
@@ -18,6 +20,47 @@ static_assert(static_cast<int>(Material::Shading::GroundShadow) + 1 == Material:
 
 bool needs_environment(Material::Shading s) {
   return s != Material::Shading::Lambert;
+}
+
+// The ground shadow is a signed change of the real pixel: only the HDR compositor applies it.
+bool drawn_into(const VirtualObject& object, ColourOutput output) {
+  return object.material.shading != Material::Shading::GroundShadow ||
+         output == ColourOutput::LinearFloat;
+}
+
+// Composed in double so that a world far from the origin keeps its precision.
+Eigen::Matrix4d camera_from(const Pose& T_camera_world, const VirtualObject& object) {
+  Eigen::Matrix4d m = (T_camera_world * object.T_world_object).matrix();
+  m.topLeftCorner<3, 3>() *= object.scale;
+  return m;
+}
+
+// Zeroes the pixels of `stale` that are not in `fresh` (the previous frame's object outside
+// this frame's bounds), row span by row span.
+template <typename T, int C>
+void clear_outside(Image<T, C>& image, const PixelRect& stale, const PixelRect& fresh) {
+  auto zero = [&](int y, int x0, int x1) {
+    if (x1 > x0) std::fill(image.row(y) + x0 * C, image.row(y) + x1 * C, T{});
+  };
+  for (int y = stale.y0; y < stale.y1; ++y) {
+    if (!fresh.contains_row(y)) {
+      zero(y, stale.x0, stale.x1);
+      continue;
+    }
+    zero(y, stale.x0, std::min(stale.x1, fresh.x0));
+    zero(y, std::max(stale.x0, fresh.x1), stale.x1);
+  }
+}
+
+// glReadPixels of `rect` into the same pixels of `image` (GL's rows are the image's rows:
+// projection_from_intrinsics).
+template <typename T, int C>
+void read_rect(Image<T, C>& image, const PixelRect& rect, GLenum format, GLenum type) {
+  if (rect.empty()) return;
+  glPixelStorei(GL_PACK_ROW_LENGTH, image.width());
+  glReadPixels(rect.x0, rect.y0, rect.width(), rect.height(), format, type,
+               image.row(rect.y0) + rect.x0 * C);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);  // the prefilter's read-back shares the context
 }
 
 }  // namespace
@@ -112,9 +155,9 @@ void Renderer::resize(int width, int height, ColourOutput output) {
   glGetIntegerv(GL_IMPLEMENTATION_COLOR_READ_TYPE, &type);
   read_depth_as_red_ = format == GL_RED && type == GL_FLOAT;
   if (read_depth_as_red_)
-    depth_scratch_.clear();
+    depth_scratch_ = {};
   else
-    depth_scratch_.assign(static_cast<std::size_t>(width) * height * 4, 0.f);
+    depth_scratch_ = ImageRGBAF(width, height);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   check_gl("renderer: framebuffer setup");
   width_ = width;
@@ -157,8 +200,12 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
       throw std::invalid_argument("renderer: mesh '" + name + "': ior must be > 0");
   }
 
+  const PixelRect rect = drawn_pixels(camera, objects, out.output);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
   glViewport(0, 0, width_, height_);
+  // The clears and the draws stay inside the objects' bounds: what lies outside is never read.
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(rect.x0, rect.y0, rect.width(), rect.height());
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_TRUE);
@@ -180,9 +227,7 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
   const Program* bound = nullptr;
   for (std::size_t i = 0; i < objects.size(); ++i) {
     const VirtualObject& object = objects[i];
-    if (object.material.shading == Material::Shading::GroundShadow &&
-        out.output != ColourOutput::LinearFloat)
-      continue;  // a signed change of the real pixel: only the HDR compositor can apply it
+    if (!drawn_into(object, out.output)) continue;
     const GpuMesh& gpu = upload(object.mesh);
     const Program& prog = program(object.material.shading);
     if (&prog != bound) {
@@ -195,10 +240,7 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
       glUniform1f(prog.ambient, config_.ambient);
       bound = &prog;
     }
-    // Composed in double so that a world far from the origin keeps its precision.
-    Eigen::Matrix4d camera_from_object = (T_camera_world * object.T_world_object).matrix();
-    camera_from_object.topLeftCorner<3, 3>() *= object.scale;
-    const Eigen::Matrix4f m = camera_from_object.cast<float>();
+    const Eigen::Matrix4f m = camera_from(T_camera_world, object).cast<float>();
     const Eigen::Matrix3f r = object.T_world_object.rotation.toRotationMatrix().cast<float>();
     const Eigen::Vector4f colour = object.material.base_colour.cwiseProduct(gpu.base_colour);
     glUniformMatrix4fv(prog.camera_from_object, 1, GL_FALSE, m.data());
@@ -214,7 +256,8 @@ void Renderer::render(const Camera& camera, const std::vector<VirtualObject>& ob
     glDrawElements(GL_TRIANGLES, gpu.index_count, GL_UNSIGNED_INT, nullptr);
   }
   glBindVertexArray(0);
-  read_back(out);
+  glDisable(GL_SCISSOR_TEST);  // the prefilter passes share the context
+  read_back(out, rect);
   check_gl("renderer: render");
 }
 
@@ -258,28 +301,57 @@ void Renderer::set_material_uniforms(const Program& prog, const VirtualObject& o
   }
 }
 
-void Renderer::read_back(RenderTarget& out) {
-  if (out.depth_mm.width() != width_ || out.depth_mm.height() != height_)
-    out.depth_mm = ImageF(width_, height_);
-  // Rows come bottom-up from GL, and the projection already put the image's top row there.
+PixelRect Renderer::drawn_pixels(const Camera& camera, const std::vector<VirtualObject>& objects,
+                                 ColourOutput output) {
+  const PixelRect whole = PixelRect::whole(width_, height_);
+  if (!config_.scissor) return whole;
+  const Pose T_camera_world = camera.T_world_camera.inverse();
+  PixelRect rect;
+  for (const VirtualObject& object : objects) {
+    if (!drawn_into(object, output)) continue;
+    const GpuMesh& gpu = upload(object.mesh);
+    rect = unite(rect, projected_box(camera.intrinsics, camera_from(T_camera_world, object), gpu.lo,
+                                     gpu.hi, config_.near_m));
+    if (rect == whole) break;
+  }
+  return rect;
+}
+
+void Renderer::read_back(RenderTarget& out, const PixelRect& rect) {
+  // What may be non-zero in each image before this frame: the last frame's rectangle in the
+  // depth; in the colour image too if the last frame wrote this one, else all of it (that
+  // output's last rectangle is not kept); nothing in an image allocated here (zeros).
+  PixelRect depth_stale = out.drawn;
+  PixelRect colour_stale =
+      out.drawn_output == out.output ? out.drawn : PixelRect::whole(width_, height_);
+  auto fit = [&](auto& image, PixelRect& stale) {
+    if (image.width() == width_ && image.height() == height_) return;
+    image = std::remove_reference_t<decltype(image)>(width_, height_);
+    stale = {};
+  };
+  fit(out.depth_mm, depth_stale);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   if (out.output == ColourOutput::LinearFloat) {
-    if (out.radiance.width() != width_ || out.radiance.height() != height_)
-      out.radiance = ImageRGBAF(width_, height_);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, out.radiance.data());
+    fit(out.radiance, colour_stale);
+    clear_outside(out.radiance, colour_stale, rect);
+    read_rect(out.radiance, rect, GL_RGBA, GL_FLOAT);
   } else {
-    if (out.colour.width() != width_ || out.colour.height() != height_)
-      out.colour = ImageRGBA8(width_, height_);
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.colour.data());
+    fit(out.colour, colour_stale);
+    clear_outside(out.colour, colour_stale, rect);
+    read_rect(out.colour, rect, GL_RGBA, GL_UNSIGNED_BYTE);
   }
+  clear_outside(out.depth_mm, depth_stale, rect);
   glReadBuffer(GL_COLOR_ATTACHMENT1);
   if (read_depth_as_red_) {
-    glReadPixels(0, 0, width_, height_, GL_RED, GL_FLOAT, out.depth_mm.data());
-  } else {
-    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_FLOAT, depth_scratch_.data());
-    float* d = out.depth_mm.data();
-    for (std::size_t i = 0; i < out.depth_mm.pixel_count(); ++i) d[i] = depth_scratch_[4 * i];
+    read_rect(out.depth_mm, rect, GL_RED, GL_FLOAT);
+  } else if (!rect.empty()) {
+    // RGBA floats through the scratch image, red kept.
+    read_rect(depth_scratch_, rect, GL_RGBA, GL_FLOAT);
+    for (int y = rect.y0; y < rect.y1; ++y)
+      for (int x = rect.x0; x < rect.x1; ++x) out.depth_mm.at(x, y) = depth_scratch_.at(x, y, 0);
   }
+  out.drawn = rect;
+  out.drawn_output = out.output;
 }
 
 }  // namespace probeless::render

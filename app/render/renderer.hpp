@@ -16,6 +16,7 @@
 #include "app/render/environment_map.hpp"
 #include "app/render/gl_objects.hpp"
 #include "app/render/mesh.hpp"
+#include "app/render/screen_bounds.hpp"
 #include "core/camera/pinhole.hpp"
 #include "core/image.hpp"
 #include "core/pose.hpp"
@@ -81,6 +82,11 @@ struct RenderTarget {
   ImageRGBA8 colour;     // Display8; left as it is under LinearFloat
   ImageRGBAF radiance;   // LinearFloat (the HDR compositor's input); left as it is otherwise
   ImageF depth_mm;       // distance along the optical axis (camera z), mm; 0 where no object
+  // Where the last render() may have left an object in the colour image of `drawn_output` and
+  // in depth_mm: they are zero outside. render() clears and reads back only the objects'
+  // projected bounds (RendererConfig::scissor) and zeroes what the previous frame drew outside.
+  PixelRect drawn;
+  ColourOutput drawn_output = ColourOutput::Display8;
 };
 
 struct RendererConfig {
@@ -91,6 +97,10 @@ struct RendererConfig {
   Eigen::Vector3d light_direction_world{-0.5, -0.3, 0.8};
   float ambient = 0.3f;
   PrefilterConfig prefilter;  // the rough metal's prefiltered levels (environment_map.hpp)
+  // Clear, draw and read back only the pixels the objects' bounding boxes project to
+  // (screen_bounds.hpp); false: the whole image every frame (the same pictures, bit for bit;
+  // the tests compare the two).
+  bool scissor = true;
 };
 
 // The OpenGL projection for pinhole intrinsics, exactly (docs/rendering.md derives it): a
@@ -146,7 +156,10 @@ class Renderer {
   void resize(int width, int height, ColourOutput output);
   // Forgets meshes and environments whose shared_ptr is gone (keeping one texture's storage).
   void drop_expired();
-  void read_back(RenderTarget& out);
+  // The pixels `objects` can cover from `camera` (the whole image without the scissor).
+  PixelRect drawn_pixels(const Camera& camera, const std::vector<VirtualObject>& objects,
+                         ColourOutput output);
+  void read_back(RenderTarget& out, const PixelRect& rect);
 
   RendererConfig config_;
   std::unique_ptr<EglContext> context_;
@@ -161,7 +174,7 @@ class Renderer {
   GlFramebuffer framebuffer_;
   GlRenderbuffer colour_buffer_, depth_mm_buffer_, z_buffer_;
   bool read_depth_as_red_ = false;  // else as RGBA floats through depth_scratch_
-  std::vector<float> depth_scratch_;
+  ImageRGBAF depth_scratch_;
 };
 
 }  // namespace probeless::render

@@ -11,6 +11,7 @@ struct Renderer::GpuMesh {
   GlBuffer vertices, colours, indices, transfer;
   GLsizei index_count = 0;
   Eigen::Vector4f base_colour;
+  Eigen::Vector3f lo, hi;  // the mesh's bounds (object frame): the pixels it can cover
 };
 
 struct Renderer::GpuEnvironment {

@@ -1,5 +1,6 @@
 // Uploads of meshes and environments (with the prefilter), kept while their shared_ptr lives.
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 #include "app/render/renderer_internal.hpp"
@@ -17,6 +18,7 @@ const Renderer::GpuMesh& Renderer::upload(const std::shared_ptr<const Mesh>& mes
   gpu->indices = make_buffer();
   gpu->index_count = static_cast<GLsizei>(mesh->indices.size());
   gpu->base_colour = mesh->base_colour;
+  std::tie(gpu->lo, gpu->hi) = mesh->bounds();
   std::vector<float> interleaved;
   interleaved.reserve(mesh->positions.size() * 6);
   for (std::size_t i = 0; i < mesh->positions.size(); ++i) {

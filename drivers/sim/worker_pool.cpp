@@ -1,5 +1,7 @@
 #include "drivers/sim/worker_pool.hpp"
 
+#include <pthread.h>
+
 namespace probeless::sim {
 
 WorkerPool::WorkerPool(int threads) {
@@ -40,6 +42,9 @@ void WorkerPool::parallel_for(int n, const std::function<void(int)>& fn) {
 }
 
 void WorkerPool::worker_loop() {
+  // Named so that `bench pipeline` counts the synthetic cameras' rendering apart from the
+  // pipeline's threads (it would otherwise fall among PoCL's unnamed workers).
+  pthread_setname_np(pthread_self(), "sim-pool");
   std::uint64_t seen = 0;
   for (;;) {
     {

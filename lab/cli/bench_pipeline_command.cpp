@@ -55,7 +55,9 @@ class JpegSink final : public Output {
 // the pipeline names its threads pl-* (app/pipeline/thread_name.hpp); Mesa's are llvmpipe-N;
 // the rest are PoCL's workers (every OpenCL kernel: matte, composite, light update; they take
 // the name of the thread that built the first context, so the pipeline names its threads
-// after that) and the main thread, which sleeps.
+// after that) and the main thread, which sleeps. The sim's render workers are sim-pool: the
+// synthetic cameras' cost (the fisheye's exposure and noise, live rendering), not the
+// pipeline's, though it runs on the same two cores.
 std::map<std::string, double> cpu_ms_by_thread() {
   std::map<std::string, double> out;
   std::error_code ec;
@@ -69,6 +71,8 @@ std::map<std::string, double> cpu_ms_by_thread() {
       group = comm.substr(3);
     else if (comm.starts_with("llvmpipe"))
       group = "llvmpipe";
+    else if (comm.starts_with("sim-"))
+      group = "sim";
     out[group] += ns * 1e-6;
   }
   return out;
