@@ -24,12 +24,14 @@ std::size_t fill_beyond_range_holes(DepthImage& depth, const BeyondRangeRule& ru
   // the ~1 ms of the full pass on a VGA frame a third hole, tests/unit/core DISABLED_CostVga).
   if (std::none_of(d, d + n, [&](std::uint16_t v) { return v >= rule.far_mm; })) return 0;
   // Every hole pixel takes the depth of its nearest measured pixel (4-connected steps through
-  // the hole, breadth first from the rim): `nearest` holds it, 0 while unreached.
-  std::vector<std::uint16_t>& nearest = scratch.nearest;
+  // the hole, breadth first from the rim). `reached` packs that depth and the steps from the
+  // rim (1 on it) as depth << 16 | steps, 0 while unreached. It is all zeros between calls: the
+  // queue lists every pixel written, and they are reset at the end, so a frame pays for its
+  // holes, not for clearing two frame-sized arrays (in `perf` of `bench pipeline` the memsets
+  // cost as much as the search).
+  std::vector<std::uint32_t>& reached = scratch.reached;
   std::vector<std::uint32_t>& queue = scratch.queue;
-  std::vector<std::uint16_t>& steps = scratch.steps;  // from the rim, 1 on it
-  nearest.assign(n, 0);
-  steps.assign(n, 0);
+  if (reached.size() != n) reached.assign(n, 0);
   queue.clear();
   // The queue holds (y << 16 | x): the neighbours' bounds come from x and y without a division
   // per pixel: 1.05 -> 0.85 ms p50 on a VGA frame a third hole (DISABLED_CostVga, 2026-11-27).
@@ -45,32 +47,38 @@ std::size_t fill_beyond_range_holes(DepthImage& depth, const BeyondRangeRule& ru
     return static_cast<std::uint32_t>(y) << 16 | static_cast<std::uint32_t>(x);
   };
   for (int y = 0; y < h; ++y) {
+    const std::uint16_t* row = d + static_cast<std::size_t>(y) * uw;
     for (int x = 0; x < w; ++x) {
-      const std::size_t p = static_cast<std::size_t>(y) * uw + static_cast<std::size_t>(x);
-      if (d[p] != 0) continue;
+      if (row[x] != 0) continue;
       std::uint16_t rim = 0;  // the farthest measured 4-neighbour: a wall fading out wins ties
       neighbours(x, y, [&](std::size_t q, int, int) { rim = std::max(rim, d[q]); });
       if (rim == 0) continue;
-      nearest[p] = rim;
-      steps[p] = 1;
+      reached[static_cast<std::size_t>(y) * uw + static_cast<std::size_t>(x)] =
+          std::uint32_t{rim} << 16 | 1u;
       queue.push_back(pack(x, y));
     }
   }
   for (std::size_t head = 0; head < queue.size(); ++head) {
     const int x = static_cast<int>(queue[head] & 0xffffu), y = static_cast<int>(queue[head] >> 16);
-    const std::size_t p = static_cast<std::size_t>(y) * uw + static_cast<std::size_t>(x);
+    const std::uint32_t from =
+        reached[static_cast<std::size_t>(y) * uw + static_cast<std::size_t>(x)];
+    // One more step, saturating at 65535 as a 16-bit count.
+    const std::uint32_t next = (from & 0xffffu) == 0xffffu ? from : from + 1;
     neighbours(x, y, [&](std::size_t q, int qx, int qy) {
-      if (d[q] != 0 || nearest[q] != 0) return;
-      nearest[q] = nearest[p];
-      steps[q] = static_cast<std::uint16_t>(std::min(65535, steps[p] + 1));
+      if (d[q] != 0 || reached[q] != 0) return;
+      reached[q] = next;
       queue.push_back(pack(qx, qy));
     });
   }
   std::size_t filled = 0;
   std::uint16_t* out = depth.data();
+  const auto far = static_cast<std::uint32_t>(rule.far_mm);
+  const auto rim_steps = static_cast<std::uint32_t>(rim_px);
   for (const std::uint32_t packed : queue) {
     const std::size_t p = static_cast<std::size_t>(packed >> 16) * uw + (packed & 0xffffu);
-    if (nearest[p] >= rule.far_mm && steps[p] > rim_px) out[p] = nearest[p], ++filled;
+    const std::uint32_t nearest = reached[p] >> 16, steps = reached[p] & 0xffffu;
+    if (nearest >= far && steps > rim_steps) out[p] = static_cast<std::uint16_t>(nearest), ++filled;
+    reached[p] = 0;
   }
   return filled;
 }

@@ -38,11 +38,11 @@ struct BeyondRangeRule {
   int rim_px_at_640 = 6;
 };
 
-// Reused between frames so the per-frame pass does not allocate.
+// Reused between frames so the per-frame pass neither allocates nor clears a whole frame
+// (fill_beyond_range_holes leaves `reached` all zeros).
 struct BeyondRangeScratch {
-  std::vector<std::uint16_t> nearest;
+  std::vector<std::uint32_t> reached;
   std::vector<std::uint32_t> queue;
-  std::vector<std::uint16_t> steps;
 };
 
 // The rim margin at a frame `width` px wide: 0 when either is <= 0, else >= 1.

@@ -2,7 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <ctime>
+#include <iostream>
 #include <random>
 #include <stdexcept>
 
@@ -182,6 +186,53 @@ TEST(ForegroundEstimate, RejectsBadInput) {
   }
   EXPECT_THROW(foreground_estimate_reference(ImageRGB8(4, 4), ImageF(4, 4), ImageF(3, 4)),
                std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace probeless::occlusion
+
+namespace probeless::occlusion {
+namespace {
+
+// What the stage costs a 640x480 frame (run by hand: --gtest_also_run_disabled_tests): an
+// object over the middle of the frame and an occluder disc in front of it whose matte edge
+// ramps over 5 px, ~3,800 fractional pixels (the sim's orbit has ~5,000 after the
+// stabiliser's snap, docs/occlusion.md "Temporal stabilisation"). Wall and process CPU per
+// frame with the queue drained.
+TEST(ForegroundEstimate, DISABLED_CostVga) {
+  auto& ctx = cl_context();
+  const int w = 640, h = 480;
+  Inputs in{ImageRGB8(w, h), ImageF(w, h, 0.0F), ImageF(w, h, 1.0F)};
+  std::mt19937 rng(3);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (auto& v : in.colour.elements()) v = static_cast<std::uint8_t>(byte(rng));
+  int fractional = 0;
+  for (int y = 90; y < 390; ++y)
+    for (int x = 170; x < 470; ++x) {
+      in.virt.at(x, y) = 1000.0F;
+      const double r = std::hypot(x - 320.0, y - 240.0);
+      in.vis.at(x, y) = static_cast<float>(std::clamp((r - 118.0) / 5.0, 0.0, 1.0));
+      fractional += in.vis.at(x, y) > 0.0F && in.vis.at(x, y) < 1.0F;
+    }
+  const DeviceImageRGB8 colour(ctx, in.colour);
+  const DeviceImageF virt(ctx, in.virt), vis(ctx, in.vis);
+  DeviceImageRGB8 out;
+  ForegroundEstimate stage(ctx);
+  for (int i = 0; i < 10; ++i) stage.process(colour, virt, vis, out);
+  ctx.queue().finish();
+  const int frames = 100;
+  const std::clock_t c0 = std::clock();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < frames; ++i) {
+    stage.process(colour, virt, vis, out);
+    ctx.queue().finish();
+  }
+  const double wall =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  const double cpu = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
+  std::cout << "foreground estimate 640x480, " << fractional
+            << " fractional pixels: " << wall / frames << " ms wall, " << cpu / frames
+            << " CPU-ms per frame\n";
 }
 
 }  // namespace
