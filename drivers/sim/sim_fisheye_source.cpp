@@ -71,7 +71,19 @@ ReadResult SimFisheyeSource::read(FisheyeFrame& frame, std::chrono::milliseconds
     exposure = exposure_;
   }
   const auto count = static_cast<std::int64_t>(prerendered_.size());
-  if (next_ < count || (options_.fisheye_repeat && count > 0)) {
+  if (options_.fisheye_repeat && options_.fisheye_scenes > 0 && count > 0) {
+    const std::int64_t index = next_ % count;
+    const Scene& scene = prerendered_[static_cast<std::size_t>(index)];
+    const auto key = std::make_tuple(index, exposure.exposure.time_s, exposure.exposure.gain_db);
+    if (const auto it = kept_.find(key); it != kept_.end()) {
+      frame.raw = it->second;
+      stamp(next_, scene.truth, exposure, frame);
+    } else {
+      expose(next_, scene.radiance, scene.truth, exposure, frame);
+      if (kept_.size() >= kMaxKept) kept_.clear();
+      kept_.emplace(key, frame.raw);
+    }
+  } else if (next_ < count || (options_.fisheye_repeat && count > 0)) {
     const Scene& scene = prerendered_[static_cast<std::size_t>(next_ % count)];
     expose(next_, scene.radiance, scene.truth, exposure, frame);
   } else {
@@ -145,10 +157,15 @@ void SimFisheyeSource::expose(std::int64_t index, const ImageRGBF& rad,
     }
   });
 
+  stamp(index, truth, exposure, frame);
+}
+
+void SimFisheyeSource::stamp(std::int64_t index, const std::shared_ptr<const FrameTruth>& truth,
+                             const ExposureStamp& exposure, FisheyeFrame& frame) const {
   frame.sequence = static_cast<std::uint64_t>(index);
   frame.timestamp_ns = pacer_.timestamp(index);
   frame.bit_depth = options_.fisheye_bit_depth;
-  frame.black_level = static_cast<std::uint16_t>(m.black);
+  frame.black_level = static_cast<std::uint16_t>(sensor_model(options_.fisheye_bit_depth).black);
   frame.exposure = exposure;
   frame.truth = truth;
 }

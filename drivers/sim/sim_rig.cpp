@@ -145,6 +145,9 @@ SimOptions parse_sim_options(std::string_view spec) {
       if (o.prerender < 0 || o.prerender > 100000) bad(key, value, "0..100000 frames");
     } else if (key == "fisheye_repeat") {
       o.fisheye_repeat = parse_bool(key, value);
+    } else if (key == "fisheye_scenes") {
+      o.fisheye_scenes = parse_number<int>(key, value, "a scene count");
+      if (o.fisheye_scenes < 0 || o.fisheye_scenes > 100000) bad(key, value, "0..100000 scenes");
     } else if (key == "frames" || key == "max_frames") {
       o.max_frames = parse_number<std::int64_t>(key, value, "an integer");
     } else if (key == "stall") {
@@ -171,7 +174,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam, "
           "fisheye_ocam_model, "
           "frames, "
-          "prerender, fisheye_repeat, stall, stall_every, "
+          "prerender, fisheye_repeat, fisheye_scenes, stall, stall_every, "
           "truth, "
           "threads, start, board, near_occluder, edge_samples, stamp, scene)");
     }
@@ -276,7 +279,9 @@ Rig make_sim_rig(const SimOptions& options) {
   auto fish = std::make_unique<SimFisheyeSource>(world, options, geometry, fisheye, start);
   if (options.prerender > 0) {
     rgbd->prerender(options.prerender);
-    fish->prerender(options.prerender);
+    fish->prerender(options.fisheye_repeat && options.fisheye_scenes > 0
+                        ? std::min<std::int64_t>(options.prerender, options.fisheye_scenes)
+                        : options.prerender);
     // Frame times count from when the frames can flow, not from before the rendering.
     const TimestampNs now = monotonic_now_ns();
     rgbd->restart_clock(now);

@@ -78,6 +78,14 @@ struct SimOptions {
   // prerendered frames and the sim's ray casting (~7-20 ms a frame) landed in the measurement,
   // slowing the pipeline further (docs/performance.md, 2026-11-27 evening).
   bool fisheye_repeat = false;
+  // With fisheye_repeat: the fisheye prerenders and cycles only this many scenes (0: as many
+  // as `prerender`), and keeps each exposed frame by (scene, exposure) so that a repeat costs
+  // a copy instead of the sensor model (a noise draw per pixel and channel, ~5 CPU-ms a 50 Hz
+  // fisheye frame on the bench host, 8 % of `perf`'s samples in `bench pipeline --prerender`:
+  // the synthetic camera's work, which a real camera does in hardware). A multiple of 4 keeps
+  // each scene on one bracket level (L, M, H, M), so the kept frames stay few. Repeated frames
+  // then repeat their noise too.
+  int fisheye_scenes = 0;
   // A second moving occluder, a hand 0.25-0.45 m in front of the colour camera: closer than
   // the depth sensor's minimum range, so it has no depth (SimWorld::near_hand; the occlusion
   // evaluator's near-occluder protocol, docs/occlusion.md). Off by default: the frames

@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <tuple>
 #include <vector>
 
 #include "drivers/sim/sim_moving_scene.hpp"
@@ -124,6 +125,9 @@ class SimFisheyeSource final : public FisheyeSource {
   void expose(std::int64_t index, const ImageRGBF& radiance,
               const std::shared_ptr<const FrameTruth>& truth, const ExposureStamp& exposure,
               FisheyeFrame& frame);
+  // Everything of `frame` but its pixels: index, time, format, exposure, truth.
+  void stamp(std::int64_t index, const std::shared_ptr<const FrameTruth>& truth,
+             const ExposureStamp& exposure, FisheyeFrame& frame) const;
 
   std::shared_ptr<const SimWorld> world_;
   SimOptions options_;
@@ -133,6 +137,10 @@ class SimFisheyeSource final : public FisheyeSource {
   SimRenderer renderer_;
   std::int64_t end_index_;
   std::vector<Scene> prerendered_;
+  // Exposed prerendered scenes by (scene, time, gain), with SimOptions::fisheye_scenes; at
+  // most kMaxKept frames (6 MB each at 1024 px), emptied when full (the bracket moved on).
+  static constexpr std::size_t kMaxKept = 64;
+  std::map<std::tuple<std::int64_t, double, double>, ImageRGB16> kept_;
   std::int64_t next_ = 0;
   std::mutex exposure_mutex_;
   ExposureStamp exposure_;

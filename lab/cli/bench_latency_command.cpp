@@ -56,7 +56,7 @@ std::string source_spec(const BenchLatencyOptions& o) {
   const double run_s = 3 * o.warmup_s + 2 * o.seconds + 20;
   const auto frames = static_cast<long>(std::ceil(run_s * 30));
   return o.source + (o.source == "sim" ? ":" : ",") +
-         "truth=0,fisheye_repeat=1,prerender=" + std::to_string(frames);
+         "truth=0,fisheye_repeat=1,fisheye_scenes=24,prerender=" + std::to_string(frames);
 }
 
 // Where the service's outputs are, as the paths' receivers need them.

@@ -34,7 +34,8 @@ FisheyeFrame read_fisheye(Rig& rig) {
 TEST(SimOptions, ParsesEveryKey) {
   const SimOptions o = parse_sim_options(
       "seed=3,trajectory=static,fps=60,fisheye_fps=50,realtime=0,stall=60:120,frames=500,"
-      "fisheye_size=256,fisheye_bits=8,fisheye_fov=185,truth=0,threads=1,start=4.5,prerender=7");
+      "fisheye_size=256,fisheye_bits=8,fisheye_fov=185,truth=0,threads=1,start=4.5,prerender=7,"
+      "fisheye_scenes=12");
   EXPECT_EQ(o.seed, 3u);
   EXPECT_EQ(o.trajectory, TrajectoryKind::Static);
   EXPECT_EQ(o.rgbd_fps, 60);
@@ -50,6 +51,7 @@ TEST(SimOptions, ParsesEveryKey) {
   EXPECT_EQ(o.render_threads, 1);
   EXPECT_EQ(o.start_s, 4.5);
   EXPECT_EQ(o.prerender, 7);
+  EXPECT_EQ(o.fisheye_scenes, 12);
   EXPECT_FALSE(o.fisheye_realtime.has_value()) << "unset: follows realtime";
   EXPECT_EQ(parse_sim_options("realtime=0,fisheye_realtime=1").fisheye_realtime, true);
   EXPECT_EQ(parse_sim_options("seed=1").seed, 1u);
@@ -57,9 +59,10 @@ TEST(SimOptions, ParsesEveryKey) {
 }
 
 TEST(SimOptions, ErrorsNameTheKey) {
-  for (const char* spec : {"sed=3", "seed=x", "trajectory=spiral", "stall=5", "fisheye_bits=10",
-                           "fisheye_size=4096", "fps=-1", "realtime=maybe", "fisheye_realtime=2",
-                           "start=-1", "start=soon", "prerender=-1", "prerender=lots"}) {
+  for (const char* spec :
+       {"sed=3", "seed=x", "trajectory=spiral", "stall=5", "fisheye_bits=10", "fisheye_size=4096",
+        "fps=-1", "realtime=maybe", "fisheye_realtime=2", "start=-1", "start=soon", "prerender=-1",
+        "prerender=lots", "fisheye_scenes=-4"}) {
     try {
       parse_sim_options(spec);
       ADD_FAILURE() << spec << " was accepted";
@@ -147,6 +150,39 @@ TEST(SimRig, FisheyeRepeatServesThePrerenderedScenesAgain) {
   EXPECT_LT(d31, d3live) << "frame 3 is frame 1's scene again, not frame 3's";
   EXPECT_GT(b[3].timestamp_ns, b[2].timestamp_ns);
   EXPECT_EQ(b[3].exposure.exposure.time_s, e.exposure.time_s);
+}
+
+// fisheye_scenes: the fisheye cycles that many prerendered scenes and keeps each exposed frame,
+// so a scene seen again at the same exposure is the same picture (no sensor model work), and a
+// new exposure is exposed anew.
+TEST(SimRig, FisheyeScenesKeepTheExposedFramesForTheirRepeats) {
+  Rig full = open("seed=4,realtime=0,truth=0,fisheye_fps=1,prerender=6,fisheye_repeat=1");
+  Rig few =
+      open("seed=4,realtime=0,truth=0,fisheye_fps=1,prerender=6,fisheye_repeat=1,fisheye_scenes=2");
+  ExposureStamp e;
+  e.exposure.time_s = 0.002;
+  full.fisheye->set_next_exposure(e);
+  few.fisheye->set_next_exposure(e);
+  std::vector<FisheyeFrame> b;
+  const FisheyeFrame first = read_fisheye(full);
+  for (int i = 0; i < 4; ++i) b.push_back(read_fisheye(few));
+  EXPECT_TRUE(b[0].raw == first.raw) << "the first pass is the sensor model's";
+  EXPECT_FALSE(b[1].raw == b[0].raw);
+  EXPECT_TRUE(b[2].raw == b[0].raw) << "scene 0 again at the same exposure: the kept frame";
+  EXPECT_TRUE(b[3].raw == b[1].raw);
+  EXPECT_EQ(b[3].sequence, 3u);
+  EXPECT_GT(b[3].timestamp_ns, b[2].timestamp_ns);
+  e.exposure.time_s = 0.004;
+  few.fisheye->set_next_exposure(e);
+  const FisheyeFrame brighter = read_fisheye(few);  // scene 0, exposed anew
+  EXPECT_EQ(brighter.exposure.exposure.time_s, 0.004);
+  double level0 = 0, level4 = 0;
+  for (std::size_t k = 0; k < brighter.raw.pixel_count() * 3; ++k) {
+    level0 += b[0].raw.data()[k] - double(b[0].black_level);
+    level4 += brighter.raw.data()[k] - double(brighter.black_level);
+  }
+  // Above black; less than 2x where the window clips.
+  EXPECT_GT(level4, 1.5 * level0) << "twice the exposure, not the kept frame";
 }
 
 TEST(SimRig, PrerenderRestartsTheClockAfterRendering) {
