@@ -109,7 +109,10 @@ ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
   }
   if (next_ < static_cast<std::int64_t>(prerendered_.size())) {
     frame = prerendered_[static_cast<std::size_t>(next_)];
-    frame.timestamp_ns = pacer_.timestamp(next_);  // the clock restarted after the rendering
+    // The clock restarted after the rendering; or when read, as a camera delivers.
+    frame.timestamp_ns = options_.stamp_on_read ? std::max(monotonic_now_ns(), last_stamp_ns_ + 1)
+                                                : pacer_.timestamp(next_);
+    last_stamp_ns_ = frame.timestamp_ns;
   } else {
     render_frame(next_, frame);
   }

@@ -145,6 +145,8 @@ SimOptions parse_sim_options(std::string_view spec) {
       if (o.prerender < 0 || o.prerender > 100000) bad(key, value, "0..100000 frames");
     } else if (key == "fisheye_repeat") {
       o.fisheye_repeat = parse_bool(key, value);
+    } else if (key == "stamp_on_read") {
+      o.stamp_on_read = parse_bool(key, value);
     } else if (key == "fisheye_scenes") {
       o.fisheye_scenes = parse_number<int>(key, value, "a scene count");
       if (o.fisheye_scenes < 0 || o.fisheye_scenes > 100000) bad(key, value, "0..100000 scenes");
@@ -174,7 +176,7 @@ SimOptions parse_sim_options(std::string_view spec) {
           "fisheye_realtime, fisheye_size, fisheye_bits, fisheye_fov, fisheye_ocam, "
           "fisheye_ocam_model, "
           "frames, "
-          "prerender, fisheye_repeat, fisheye_scenes, stall, stall_every, "
+          "prerender, fisheye_repeat, fisheye_scenes, stamp_on_read, stall, stall_every, "
           "truth, "
           "threads, start, board, near_occluder, edge_samples, stamp, scene)");
     }

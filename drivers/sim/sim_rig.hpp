@@ -86,6 +86,13 @@ struct SimOptions {
   // each scene on one bracket level (L, M, H, M), so the kept frames stay few. Repeated frames
   // then repeat their noise too.
   int fisheye_scenes = 0;
+  // Stamp each prerendered RGB-D frame with the time it is read (CLOCK_MONOTONIC), as a
+  // camera delivers, instead of its place on the 30 Hz sim clock. For benches that read
+  // frames as fast as the pipeline takes them: on the sim clock a pipeline below 30 fps fell
+  // behind the wall-time fisheye, and the light thread waited for poses that came late and
+  // dropped most fisheye frames (docs/performance.md, 2026-11-28), so a slow host measured
+  // less light work than a fast one.
+  bool stamp_on_read = false;
   // A second moving occluder, a hand 0.25-0.45 m in front of the colour camera: closer than
   // the depth sensor's minimum range, so it has no depth (SimWorld::near_hand; the occlusion
   // evaluator's near-occluder protocol, docs/occlusion.md). Off by default: the frames

@@ -95,6 +95,7 @@ class SimRgbdSource final : public RgbdSource {
   SimRenderer meter_renderer_;
   std::map<std::int64_t, Metering> metering_;
   std::vector<RgbdFrame> prerendered_;
+  TimestampNs last_stamp_ns_ = 0;  // stamp_on_read: strictly increasing
   std::int64_t next_ = 0;
   TimestampNs stall_wall_end_ = 0;
   std::atomic<SourceState> state_{SourceState::Streaming};

@@ -35,7 +35,7 @@ TEST(SimOptions, ParsesEveryKey) {
   const SimOptions o = parse_sim_options(
       "seed=3,trajectory=static,fps=60,fisheye_fps=50,realtime=0,stall=60:120,frames=500,"
       "fisheye_size=256,fisheye_bits=8,fisheye_fov=185,truth=0,threads=1,start=4.5,prerender=7,"
-      "fisheye_scenes=12");
+      "fisheye_scenes=12,stamp_on_read=1");
   EXPECT_EQ(o.seed, 3u);
   EXPECT_EQ(o.trajectory, TrajectoryKind::Static);
   EXPECT_EQ(o.rgbd_fps, 60);
@@ -52,6 +52,7 @@ TEST(SimOptions, ParsesEveryKey) {
   EXPECT_EQ(o.start_s, 4.5);
   EXPECT_EQ(o.prerender, 7);
   EXPECT_EQ(o.fisheye_scenes, 12);
+  EXPECT_TRUE(o.stamp_on_read);
   EXPECT_FALSE(o.fisheye_realtime.has_value()) << "unset: follows realtime";
   EXPECT_EQ(parse_sim_options("realtime=0,fisheye_realtime=1").fisheye_realtime, true);
   EXPECT_EQ(parse_sim_options("seed=1").seed, 1u);
@@ -183,6 +184,21 @@ TEST(SimRig, FisheyeScenesKeepTheExposedFramesForTheirRepeats) {
   }
   // Above black; less than 2x where the window clips.
   EXPECT_GT(level4, 1.5 * level0) << "twice the exposure, not the kept frame";
+}
+
+// stamp_on_read: a prerendered frame read late carries the time it was read, not its place
+// on the 30 Hz sim clock.
+TEST(SimRig, StampOnReadGivesTheTimeAFrameIsRead) {
+  Rig rig = open("seed=4,realtime=0,truth=0,prerender=3,stamp_on_read=1");
+  const TimestampNs before = monotonic_now_ns();
+  const RgbdFrame a = read_rgbd(rig);
+  EXPECT_GE(a.timestamp_ns, before);
+  EXPECT_LE(a.timestamp_ns, monotonic_now_ns());
+  std::this_thread::sleep_for(std::chrono::milliseconds(80));
+  const RgbdFrame b = read_rgbd(rig);
+  EXPECT_GE(b.timestamp_ns - a.timestamp_ns, 80'000'000) << "the sim clock would say 33 ms";
+  const RgbdFrame c = read_rgbd(rig);
+  EXPECT_GT(c.timestamp_ns, b.timestamp_ns);
 }
 
 TEST(SimRig, PrerenderRestartsTheClockAfterRendering) {
