@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
+#include <stdexcept>
+#include <utility>
 
 #include "app/outputs/banner.hpp"
 #include "app/pipeline/scene_objects.hpp"
@@ -111,32 +114,103 @@ FrameProcessor::Located FrameProcessor::locate(const RgbdFrame& frame, StageStat
 
 CompositeFrame FrameProcessor::compose(const RgbdFrame& frame, const Located& located,
                                        StageStats& stats) {
-  const auto& frame_start = located.started;
+  return finish(submit(frame, located, stats), stats);
+}
+
+FrameProcessor::InFlight::InFlight(InFlight&& other) noexcept
+    : owner_(std::exchange(other.owner_, nullptr)),
+      slot_(std::exchange(other.slot_, -1)),
+      pending_(std::exchange(other.pending_, std::nullopt)),
+      out_(std::move(other.out_)),
+      started_(other.started_) {}
+
+FrameProcessor::InFlight& FrameProcessor::InFlight::operator=(InFlight&& other) noexcept {
+  if (this != &other) {
+    release();
+    owner_ = std::exchange(other.owner_, nullptr);
+    slot_ = std::exchange(other.slot_, -1);
+    pending_ = std::exchange(other.pending_, std::nullopt);
+    out_ = std::move(other.out_);
+    started_ = other.started_;
+  }
+  return *this;
+}
+
+FrameProcessor::InFlight::~InFlight() {
+  release();
+}
+
+void FrameProcessor::InFlight::release() noexcept {
+  if (pending_) {
+    try {
+      pending_->done.wait();
+    } catch (...) {  // NOLINT(bugprone-empty-catch): a destructor's wait; finish() reports
+      // The event failed: the queue is broken, nothing more can be waited for.
+    }
+    pending_.reset();
+  }
+  if (owner_ && slot_ >= 0) owner_->slot_busy_[slot_] = false;
+  owner_ = nullptr;
+  slot_ = -1;
+}
+
+FrameProcessor::InFlight FrameProcessor::submit(const RgbdFrame& frame, const Located& located,
+                                                StageStats& stats) {
+  InFlight f;
+  f.started_ = located.started;
   const std::optional<Pose>& T_world_rig = located.T_world_rig;
   if (!T_world_rig) {
     occlusion_.skip_frame();
-    CompositeFrame out = camera_only(frame, located.status);
-    stats.record("frame", ms_since(frame_start));
-    return out;
+    f.out_ = camera_only(frame, located.status);  // no device work: finish() just returns it
+    return f;
   }
+  const auto idle = std::find(std::begin(slot_busy_), std::end(slot_busy_), false);
+  if (idle == std::end(slot_busy_))
+    throw std::logic_error("FrameProcessor::submit: finish a frame first (two in flight)");
+  const int slot = static_cast<int>(idle - std::begin(slot_busy_));
   const Pose T_world_camera = *T_world_rig * calibration_.T_rig_rgb;
-  const VirtualLayer layer = timed(stats, render_, T_world_camera);
-  const DeviceFrame device = timed(stats, upload_, frame, layer);
-  const DeviceImageF& matte = timed(stats, occlusion_, device, T_world_camera);
-  const DeviceImageRGB8& composite = timed(stats, composite_, device, matte);
-  HostImages host = timed(stats, download_, composite, matte);
-  stats.record("frame", ms_since(frame_start));
-
-  CompositeFrame out;
-  out.sequence = frame.sequence;
-  out.timestamp_ns = frame.timestamp_ns;
-  out.colour = std::move(host.composite);
-  out.alpha = std::move(host.matte);
-  if (keep_matte_) {
-    out.virtual_depth = std::make_shared<const ImageF>(*layer.depth_mm);
-    out.T_world_camera = T_world_camera;
+  try {
+    const VirtualLayer layer = timed(stats, render_, T_world_camera, slot);
+    const DeviceFrame device = timed(stats, upload_, frame, layer, slot);
+    const DeviceImageF& matte = timed(stats, occlusion_, device, T_world_camera);
+    const DeviceImageRGB8& composite = timed(stats, composite_, device, matte);
+    f.pending_ = download_.process(composite, matte);
+    f.owner_ = this;
+    f.slot_ = slot;
+    slot_busy_[slot] = true;
+    if (keep_matte_) {
+      f.out_.virtual_depth = std::make_shared<const ImageF>(*layer.depth_mm);
+      f.out_.T_world_camera = T_world_camera;
+    }
+  } catch (...) {
+    // Some of this frame's commands may be queued, reading `frame` and the slot's host
+    // memory, which the caller frees while unwinding: wait for them (and for the frame in
+    // flight before it, whose event stays valid) before the exception leaves.
+    f.release();
+    try {
+      ctx_->queue().finish();
+    } catch (...) {  // NOLINT(bugprone-empty-catch): the first error is the one to report
+    }
+    throw;
   }
-  out.truth = frame.truth;
+  f.out_.sequence = frame.sequence;
+  f.out_.timestamp_ns = frame.timestamp_ns;
+  f.out_.truth = frame.truth;
+  return f;
+}
+
+CompositeFrame FrameProcessor::finish(InFlight in_flight, StageStats& stats) {
+  if (in_flight.pending_) {
+    const auto t0 = std::chrono::steady_clock::now();
+    HostImages host = DownloadStage::wait(*in_flight.pending_);
+    stats.record(DownloadStage::name, ms_since(t0));
+    in_flight.pending_.reset();
+    in_flight.out_.colour = std::move(host.composite);
+    in_flight.out_.alpha = std::move(host.matte);
+  }
+  stats.record("frame", ms_since(in_flight.started_));
+  CompositeFrame out = std::move(in_flight.out_);
+  in_flight.release();  // frees the slot for the next submit
   return out;
 }
 

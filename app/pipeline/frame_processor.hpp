@@ -4,6 +4,11 @@
 // OpenCL context and the EGL renderer, so it must be created, used and destroyed on one
 // thread; only locate() may run on another (one call at a time) when tracking_apart() says
 // so: the processing loop tracks the next frame there while this one is composed.
+//
+// compose() is submit() then finish(). Apart, they let the host render frame N+1 while the
+// OpenCL device works on frame N (issue #19): on PoCL + llvmpipe the render (~13 ms with the
+// HDR layer) and the device's matte + composite (~10 ms waited for in the download) ran one
+// after the other, bounding the bench at ~35 fps with 1.65 of the 2 cores busy.
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -37,14 +42,50 @@ class FrameProcessor {
     std::chrono::steady_clock::time_point started;  // when locate() began: the frame's start
   };
 
+  // A frame submitted and not yet finished: its device work, the host images it writes into
+  // and the composite's other fields. Move-only; destroyed unfinished it waits for the device
+  // (its commands read host memory: the frame's, the render target's), so an exception
+  // cannot leave the device reading freed memory. Must not outlive its FrameProcessor.
+  class InFlight {
+   public:
+    InFlight() = default;
+    InFlight(InFlight&& other) noexcept;
+    InFlight& operator=(InFlight&& other) noexcept;
+    InFlight(const InFlight&) = delete;
+    InFlight& operator=(const InFlight&) = delete;
+    ~InFlight();
+    // Whether it has device work to wait for (false: a camera-only frame, or moved from).
+    bool on_device() const { return pending_.has_value(); }
+
+   private:
+    friend class FrameProcessor;
+    void release() noexcept;  // waits (errors swallowed) and frees the slot
+
+    FrameProcessor* owner_ = nullptr;
+    int slot_ = -1;
+    std::optional<PendingDownload> pending_;
+    CompositeFrame out_;  // all but the downloaded images
+    std::chrono::steady_clock::time_point started_;
+  };
+
   // locate() then compose(): the frame on this thread alone.
   CompositeFrame process(const RgbdFrame& frame, StageStats& stats);
   // The tracking stage ("tracking"): the rig pose, also handed to the light thread (`poses`).
   // Frames in order, one call at a time.
   Located locate(const RgbdFrame& frame, StageStats& stats);
   // Everything after tracking: render, upload, matte, composite, download ("frame": from
-  // located.started to the end).
+  // located.started to the end). finish(submit(...)).
   CompositeFrame compose(const RgbdFrame& frame, const Located& located, StageStats& stats);
+  // Renders and uploads the frame and enqueues its matte, composite and the reads of the
+  // results without waiting for the device. `frame` must stay alive and in place until the
+  // frame is finished. At most kFrameSlots frames on the way: one in flight beside the one
+  // submitted (a third is std::logic_error). Frames are finished in the order submitted.
+  // If it throws, nothing of this frame is left on the queue.
+  InFlight submit(const RgbdFrame& frame, const Located& located, StageStats& stats);
+  // Waits for the frame's device work ("download": the wait; "frame": from located.started
+  // to here) and returns its composite. Waits on the frame's own event, not the queue, as the
+  // next frame's commands may be queued behind it.
+  CompositeFrame finish(InFlight in_flight, StageStats& stats);
   // Whether locate() may run on another thread beside compose(): the tracker does not use
   // this thread's OpenCL context (`[tracking] device = "cpu"`, the default, or no tracker).
   bool tracking_apart() const { return tracking_apart_; }
@@ -52,6 +93,8 @@ class FrameProcessor {
   const world::LocaliserStatus& tracking() const { return localiser_.status(); }
 
   std::string occlusion_method() const { return occlusion_.method_name(); }
+  // The frame path's OpenCL context and queue (tests hold the queue back with a user event).
+  ComputeContext& compute() { return *ctx_; }
   std::string device_description() const { return ctx_->describe(); }
 
  private:
@@ -66,6 +109,7 @@ class FrameProcessor {
   world::RigLocaliser localiser_;
   std::shared_ptr<PoseHistory> poses_;
   bool tracking_apart_;
+  bool slot_busy_[kFrameSlots] = {};  // by a submitted frame not yet finished
 
   // The camera image alone with a small banner: what is shown while the pose is unknown.
   CompositeFrame camera_only(const RgbdFrame& frame, const world::LocaliserStatus& s) const;

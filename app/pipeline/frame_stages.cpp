@@ -20,13 +20,24 @@ RenderStage::RenderStage(std::vector<render::VirtualObject> objects, PinholeIntr
     image_based_ = image_based_ || o.material.shading != render::Material::Shading::Lambert;
 }
 
-VirtualLayer RenderStage::process(const Pose& T_world_camera) {
+namespace {
+
+int checked_slot(int slot) {
+  if (slot < 0 || slot >= kFrameSlots)
+    throw std::out_of_range(fmt::format("frame slot {} (0 .. {})", slot, kFrameSlots - 1));
+  return slot;
+}
+
+}  // namespace
+
+VirtualLayer RenderStage::process(const Pose& T_world_camera, int slot) {
+  render::RenderTarget& view = views_[checked_slot(slot)];
   const std::shared_ptr<const LightSnapshot> snap =
       image_based_ && light_ ? light_() : std::shared_ptr<const LightSnapshot>{};
   if (!(snap && snap->colour_exposure_valid)) {
-    view_.output = render::ColourOutput::Display8;
-    renderer_.render({intrinsics_, T_world_camera}, placeholders_, view_);
-    return {LdrColour{&view_.colour}, &view_.depth_mm};
+    view.output = render::ColourOutput::Display8;
+    renderer_.render({intrinsics_, T_world_camera}, placeholders_, view);
+    return {LdrColour{&view.colour}, &view.depth_mm};
   }
   if (snap->version != light_version_) {
     // A new keyframe copy: a new Environment, uploaded and prefiltered once for all objects.
@@ -38,11 +49,11 @@ VirtualLayer RenderStage::process(const Pose& T_world_camera) {
     for (auto& o : objects_) o.environment = env;
     light_version_ = snap->version;
   }
-  HdrRadiance hdr{&view_.radiance, {}};
+  HdrRadiance hdr{&view.radiance, {}};
   for (int c = 0; c < 3; ++c) hdr.camera.exposure[c] = snap->colour_exposure[c];
-  view_.output = render::ColourOutput::LinearFloat;
-  renderer_.render({intrinsics_, T_world_camera}, objects_, view_);
-  return {hdr, &view_.depth_mm};
+  view.output = render::ColourOutput::LinearFloat;
+  renderer_.render({intrinsics_, T_world_camera}, objects_, view);
+  return {hdr, &view.depth_mm};
 }
 
 UploadStage::UploadStage(ComputeContext& ctx, const PinholeCamera& rgb,
@@ -70,15 +81,16 @@ void UploadStage::check_size(const RgbdFrame& frame) const {
   probeless::check_size("depth", frame.depth.width(), frame.depth.height(), width_, height_);
 }
 
-DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& layer) {
+DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& layer, int slot) {
   auto& q = ctx_.queue();
   check_size(frame);
+  Slot& s = slots_[checked_slot(slot)];
   const DepthImage* depth = &frame.depth;
   if (beyond_range_.far_mm > 0) {
-    // Kept until the next frame: the upload below does not block.
-    judged_depth_ = frame.depth;
-    fill_beyond_range_holes(judged_depth_, beyond_range_, beyond_range_scratch_);
-    depth = &judged_depth_;
+    // Kept until the slot's next frame: the upload below does not block.
+    s.judged_depth = frame.depth;
+    fill_beyond_range_holes(s.judged_depth, beyond_range_, beyond_range_scratch_);
+    depth = &s.judged_depth;
   }
   if (undistort_) {
     raw_colour_.upload(q, frame.colour, false);
@@ -89,20 +101,21 @@ DeviceFrame UploadStage::process(const RgbdFrame& frame, const VirtualLayer& lay
     colour_.upload(q, frame.colour, false);
     real_depth_.upload(q, *depth, false);
   }
-  DeviceFrame out{&colour_, &real_depth_, {}, &virtual_depth_};
+  DeviceFrame out{&colour_, &real_depth_, {}, &s.virtual_depth};
   // The virtual layer is read in place (CL_MEM_USE_HOST_PTR; no copy on PoCL and on boards
-  // whose GPU shares the memory): the render stage keeps it until its next render, after this
-  // frame's blocking download. 6.1 MB a frame with the HDR layer (radiance float4 + depth),
-  // the PoCL workers' largest memcpy in `perf` (docs/performance.md).
+  // whose GPU shares the memory): the render stage keeps it in the same slot until that
+  // slot's next render, after this frame's download has been waited for. 6.1 MB a frame with
+  // the HDR layer (radiance float4 + depth), the PoCL workers' largest memcpy in `perf`
+  // (docs/performance.md).
   const auto& c = ctx_.context();
   if (const auto* hdr = std::get_if<HdrRadiance>(&layer.colour)) {
-    virtual_radiance_ = DeviceImage<float, 4>::wrap_host(c, *hdr->radiance);
-    out.virtual_colour = DeviceHdrRadiance{&virtual_radiance_, hdr->camera};
+    s.virtual_radiance = DeviceImage<float, 4>::wrap_host(c, *hdr->radiance);
+    out.virtual_colour = DeviceHdrRadiance{&s.virtual_radiance, hdr->camera};
   } else {
-    virtual_colour_ = DeviceImageRGBA8::wrap_host(c, *std::get<LdrColour>(layer.colour).colour);
-    out.virtual_colour = DeviceLdrColour{&virtual_colour_};
+    s.virtual_colour = DeviceImageRGBA8::wrap_host(c, *std::get<LdrColour>(layer.colour).colour);
+    out.virtual_colour = DeviceLdrColour{&s.virtual_colour};
   }
-  virtual_depth_ = DeviceImageF::wrap_host(c, *layer.depth_mm);
+  s.virtual_depth = DeviceImageF::wrap_host(c, *layer.depth_mm);
   return out;
 }
 
@@ -134,18 +147,42 @@ const DeviceImageRGB8& CompositeStage::process(const DeviceFrame& frame,
   return out_;
 }
 
-HostImages DownloadStage::process(const DeviceImageRGB8& composite, const DeviceImageF& matte) {
+namespace {
+
+// A read that does not wait: `host` (already the device image's size) must stay where it is
+// until an event after it has completed.
+template <typename T, int C>
+void enqueue_read(::cl::CommandQueue& q, const DeviceImage<T, C>& device, Image<T, C>& host) {
+  if (!device.empty())
+    q.enqueueReadBuffer(device.buffer(), CL_FALSE, 0, device.size_bytes(), host.data());
+}
+
+}  // namespace
+
+PendingDownload DownloadStage::process(const DeviceImageRGB8& composite,
+                                       const DeviceImageF& matte) {
   auto& q = ctx_.queue();
   // Fresh images per frame: the outputs hold them through shared_ptr while the next frame
-  // is processed (two 640x480 allocations per frame, measured negligible next to the work).
-  HostImages out;
-  out.composite = std::make_shared<ImageRGB8>(composite.width(), composite.height());
-  composite.download(q, *out.composite);
+  // is processed (two 640x480 allocations per frame, measured negligible next to the work),
+  // and the device writes into them while the next frame is rendered.
+  PendingDownload out;
+  out.images.composite = std::make_shared<ImageRGB8>(composite.width(), composite.height());
+  enqueue_read(q, composite, *out.images.composite);
   if (want_matte_) {
-    out.matte = std::make_shared<ImageF>(matte.width(), matte.height());
-    matte.download(q, *out.matte);
+    out.images.matte = std::make_shared<ImageF>(matte.width(), matte.height());
+    enqueue_read(q, matte, *out.images.matte);
   }
+  // One event for the whole frame: the queue is in order, so the marker completes after every
+  // command before it. The flush hands the frame to PoCL's workers now rather than at the
+  // next blocking call, which would be the next frame's.
+  q.enqueueMarkerWithWaitList(nullptr, &out.done);
+  q.flush();
   return out;
+}
+
+HostImages DownloadStage::wait(PendingDownload& pending) {
+  pending.done.wait();
+  return std::move(pending.images);
 }
 
 }  // namespace probeless

@@ -7,11 +7,15 @@
 //   upload(frame, layer)            -> DeviceFrame   (the real and the virtual images)
 //   occlusion(device frame)         -> the matte
 //   composite(device frame, matte)  -> the device composite
-//   download(composite, matte)      -> HostImages    (for the outputs)
+//   download(composite, matte)      -> PendingDownload (reads enqueued), then wait() -> HostImages
 //
 // Each stage owns the images it returns and reuses them frame after frame; what it returns
 // refers to them and is valid until its next call. Device images stay on the device between
-// upload and download.
+// upload and download. Two frames may be on the way at once (FrameProcessor::submit): one
+// whose device work runs while the next is rendered and uploaded. What the device reads from
+// host memory therefore comes in kFrameSlots copies, picked by the caller's `slot` (render
+// target, the wrapped virtual layer, the judged depth); device-only images need one copy, as
+// the queue is in order: frame N+1's writes to them run after frame N's reads.
 #include <functional>
 #include <memory>
 #include <optional>
@@ -52,6 +56,10 @@ struct VirtualLayer {
   const ImageF* depth_mm = nullptr;  // along the optical axis; 0 where no object
 };
 
+// Frames whose host memory the device may be reading at once: the one in flight and the one
+// being submitted (FrameProcessor).
+inline constexpr int kFrameSlots = 2;
+
 // The upload stage's result: the real frame and the virtual layer on the device.
 struct DeviceLdrColour {
   const DeviceImageRGBA8* colour = nullptr;
@@ -73,6 +81,12 @@ struct HostImages {
   std::shared_ptr<ImageF> matte;  // only when an output wants it
 };
 
+// The download enqueued: `images` fill in on the device's time, complete once `done` has.
+struct PendingDownload {
+  HostImages images;
+  ::cl::Event done;  // a marker after the reads, so after every command of the frame
+};
+
 // Where the render stage gets the captured light; null or returning null: no light yet.
 using LightSource = std::function<std::shared_ptr<const LightSnapshot>()>;
 
@@ -84,7 +98,9 @@ class RenderStage {
   RenderStage(std::vector<render::VirtualObject> objects, PinholeIntrinsics intrinsics,
               LightSource light = {});
   static constexpr const char* name = "render";  // the key in /status "stages", as below
-  VirtualLayer process(const Pose& T_world_camera);
+  // Draws into target `slot` (0 .. kFrameSlots-1): the layer is valid until the next call
+  // with the same slot, so the device may read the other slot's layer meanwhile.
+  VirtualLayer process(const Pose& T_world_camera, int slot = 0);
 
  private:
   render::Renderer renderer_;
@@ -94,7 +110,9 @@ class RenderStage {
   LightSource light_;
   std::uint64_t light_version_ = 0;
   bool image_based_ = false;
-  render::RenderTarget view_;  // host: RGBA8 colour or float radiance, + depth in mm
+  // Host: RGBA8 colour or float radiance, + depth in mm. One per slot: 6.1 MB each with the
+  // HDR layer, which the device reads in place (UploadStage) until its frame's download.
+  render::RenderTarget views_[kFrameSlots];
 };
 
 // Host -> device: the real frame and the rendered virtual layer. The renderer draws with the
@@ -108,10 +126,12 @@ class UploadStage {
   // so every occlusion stage sees them far; tracking reads the frame's own depth.
   UploadStage(ComputeContext& ctx, const PinholeCamera& rgb, BeyondRangeRule beyond_range = {});
   static constexpr const char* name = "upload";
-  // Non-blocking writes: `frame` and `layer`'s images must live until the download. A frame
+  // Non-blocking writes: `frame` and `layer`'s images must live until the download. `slot`
+  // (0 .. kFrameSlots-1) holds what the device reads from host memory besides them: the
+  // wrapped layer and the judged depth, kept until the next call with the same slot. A frame
   // whose colour or depth is not the calibration's colour camera size is an
   // std::invalid_argument naming both.
-  DeviceFrame process(const RgbdFrame& frame, const VirtualLayer& layer);
+  DeviceFrame process(const RgbdFrame& frame, const VirtualLayer& layer, int slot = 0);
   // The same size check alone, for stages that run before the upload (tracking).
   void check_size(const RgbdFrame& frame) const;
   bool undistorts() const { return undistort_.has_value(); }
@@ -121,15 +141,19 @@ class UploadStage {
   int width_, height_;  // the calibration's colour camera
   std::optional<Undistort> undistort_;
   BeyondRangeRule beyond_range_;
-  DepthImage judged_depth_;  // the frame's depth with the beyond-range holes filled
   BeyondRangeScratch beyond_range_scratch_;
   DeviceImageRGB8 raw_colour_;  // as the camera delivered it, when undistorting
   DeviceDepthImage raw_depth_;
   DeviceImageRGB8 colour_;
   DeviceDepthImage real_depth_;
-  DeviceImageRGBA8 virtual_colour_;
-  DeviceImage<float, 4> virtual_radiance_;
-  DeviceImageF virtual_depth_;
+  // What the device reads from host memory, per slot (see process()).
+  struct Slot {
+    DepthImage judged_depth;  // the frame's depth with the beyond-range holes filled
+    DeviceImageRGBA8 virtual_colour;
+    DeviceImage<float, 4> virtual_radiance;
+    DeviceImageF virtual_depth;
+  };
+  Slot slots_[kFrameSlots];
 };
 
 class OcclusionStage {
@@ -178,12 +202,16 @@ class CompositeStage {
   DeviceImageRGB8 out_;
 };
 
-// Device -> host, waiting for the queue: the end of the device work of the frame.
+// Device -> host: the end of the device work of the frame. process() enqueues the reads into
+// fresh host images without waiting and flushes, so the device starts on the frame while the
+// host goes on (FrameProcessor::submit); wait() is the wait, timed as this stage.
 class DownloadStage {
  public:
   DownloadStage(ComputeContext& ctx, bool want_matte) : ctx_(ctx), want_matte_(want_matte) {}
   static constexpr const char* name = "download";
-  HostImages process(const DeviceImageRGB8& composite, const DeviceImageF& matte);
+  PendingDownload process(const DeviceImageRGB8& composite, const DeviceImageF& matte);
+  // Until `pending.done`; its images are then complete.
+  static HostImages wait(PendingDownload& pending);
 
  private:
   ComputeContext& ctx_;

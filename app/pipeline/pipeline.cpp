@@ -306,20 +306,31 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
   Heartbeat heartbeat;
 
   // Frame N+1 is tracked on the worker while frame N is composed here (tracking_worker.hpp):
-  // `tracked` is a frame located and not yet composed, `next` the one the worker locates.
+  // `tracked` is a frame located and not yet submitted, `next` the one the worker locates.
   struct Tracked {
     RgbdFrame frame;
     FrameProcessor::Located located;
   };
+  // A frame submitted to the device and not yet finished (FrameProcessor::submit): the host
+  // renders the next frame while the device works on it. `work` after `frame`: destroyed
+  // first, it waits for the device, which reads the frame's images until then.
+  struct Submitted {
+    RgbdFrame frame;
+    world::LocaliserStatus status;
+    FrameProcessor::InFlight work;
+  };
+  // Oldest first; at most one between turns of the loop, two during a submit. A deque, so
+  // that a frame's address does not change while the device reads it.
+  std::deque<Submitted> in_flight;
   std::optional<Tracked> tracked, next;
   std::optional<TrackingWorker> worker;  // after `next`: joined before it is destroyed
   if (processor.tracking_apart()) worker.emplace();
 
-  // Returns false when the loop ends (max_frames, fault injection).
-  const auto compose = [&](const Tracked& t) {
-    CompositeFrame out = processor.compose(t.frame, t.located, stats_);
+  // Publishes one frame's composite. Returns false when the loop ends (max_frames, fault
+  // injection).
+  const auto publish = [&](CompositeFrame out, const world::LocaliserStatus& status) {
     {
-      nlohmann::json tracking = t.located.status.to_json();
+      nlohmann::json tracking = status.to_json();
       std::lock_guard lock(state_mutex_);
       tracking_ = std::move(tracking);
     }
@@ -343,20 +354,39 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
     }
     return true;
   };
+  // Waits for the oldest frame in flight and publishes it.
+  const auto finish_oldest = [&] {
+    Submitted& s = in_flight.front();
+    CompositeFrame out = processor.finish(std::move(s.work), stats_);
+    const world::LocaliserStatus status = std::move(s.status);
+    in_flight.pop_front();
+    return publish(std::move(out), status);
+  };
+  // Submits a located frame, then finishes the one before it: the device works on this one
+  // while the caller goes on to the next frame's tracking and render.
+  const auto submit = [&](Tracked& t) {
+    Submitted& s = in_flight.emplace_back(Submitted{std::move(t.frame), t.located.status, {}});
+    s.work = processor.submit(s.frame, t.located, stats_);
+    return in_flight.size() < 2 || finish_oldest();
+  };
 
   while (!stop.stop_requested()) {
     const auto now = std::chrono::steady_clock::now();
     heartbeat.beat();  // at least every 50 ms (take_newer's timeout) while the loop turns
-    // With a frame waiting to be composed, only a frame already there is taken (to track it
-    // meanwhile): the waiting one is not held back for a frame still to come.
-    auto item = rgbd_slot_.take_newer(seen, tracked ? 0ms : 50ms);
+    // With a frame tracked or in flight, only a frame already there is taken (to overlap
+    // with it): a frame that could go out now is not held back for a frame still to come.
+    const bool busy = tracked || !in_flight.empty();
+    auto item = rgbd_slot_.take_newer(seen, busy ? 0ms : 50ms);
     if (!item) {
+      bool go_on = true;
       if (tracked) {
-        const bool go_on = compose(*tracked);
+        go_on = submit(*tracked);
         tracked.reset();
-        if (!go_on) return;
-        continue;
+      } else if (!in_flight.empty()) {
+        go_on = finish_oldest();
       }
+      if (!go_on) return;
+      if (busy) continue;
       if (rgbd_ended_) return finish();
       const auto silent_ns = monotonic_now_ns() - last_rgbd_ns_.load();
       if (silent_ns > config_.no_signal_after_ms * 1'000'000LL) {
@@ -377,7 +407,7 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
     next.emplace(Tracked{std::move(item->value), {}});
     if (!worker) {
       next->located = processor.locate(next->frame, stats_);
-      const bool go_on = compose(*next);
+      const bool go_on = submit(*next);
       next.reset();
       if (!go_on) return;
       continue;
@@ -385,9 +415,9 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
     worker->submit([&] { next->located = processor.locate(next->frame, stats_); });
     bool go_on = true;
     try {
-      if (tracked) go_on = compose(*tracked);
+      if (tracked) go_on = submit(*tracked);
     } catch (...) {
-      worker->wait();  // `next` outlives the job
+      worker->wait();  // `next` outlives the job; `in_flight` waits for the device itself
       throw;
     }
     worker->wait();
