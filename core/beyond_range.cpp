@@ -11,6 +11,12 @@ int beyond_range_rim_px(const BeyondRangeRule& rule, int width) {
   return std::max(1, static_cast<int>(std::lround(double(rule.rim_px_at_640) * width / 640.0)));
 }
 
+bool measures_beyond_range(const DepthImage& depth, const BeyondRangeRule& rule) {
+  if (rule.far_mm == 0) return false;
+  const std::uint16_t* d = depth.data();
+  return std::any_of(d, d + depth.pixel_count(), [&](std::uint16_t v) { return v >= rule.far_mm; });
+}
+
 std::size_t fill_beyond_range_holes(DepthImage& depth, const BeyondRangeRule& rule,
                                     BeyondRangeScratch& scratch) {
   if (rule.far_mm == 0) return 0;
@@ -22,7 +28,7 @@ std::size_t fill_beyond_range_holes(DepthImage& depth, const BeyondRangeRule& ru
   const std::uint16_t* d = depth.data();
   // Most frames indoors measure nothing that far: then no hole can be filled (0.02 ms against
   // the ~1 ms of the full pass on a VGA frame a third hole, tests/unit/core DISABLED_CostVga).
-  if (std::none_of(d, d + n, [&](std::uint16_t v) { return v >= rule.far_mm; })) return 0;
+  if (!measures_beyond_range(depth, rule)) return 0;
   // Every hole pixel takes the depth of its nearest measured pixel (4-connected steps through
   // the hole, breadth first from the rim). `reached` packs that depth and the steps from the
   // rim (1 on it) as depth << 16 | steps, 0 while unreached. It is all zeros between calls: the

@@ -48,6 +48,10 @@ struct BeyondRangeScratch {
 // The rim margin at a frame `width` px wide: 0 when either is <= 0, else >= 1.
 int beyond_range_rim_px(const BeyondRangeRule& rule, int width);
 
+// Whether `depth` measures anything at or beyond rule.far_mm (false when the rule is off):
+// without such a pixel no hole can be filled, and most indoor frames have none.
+bool measures_beyond_range(const DepthImage& depth, const BeyondRangeRule& rule);
+
 // Fills every beyond-range hole pixel of `depth` in place (see above) and returns how many.
 // A hole with no measured rim (an all-zero frame) is left alone.
 std::size_t fill_beyond_range_holes(DepthImage& depth, const BeyondRangeRule& rule,

@@ -108,7 +108,9 @@ ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
     break;
   }
   if (next_ < static_cast<std::int64_t>(prerendered_.size())) {
-    frame = prerendered_[static_cast<std::size_t>(next_)];
+    // Moved out: each is read once (next_ only grows), and copying 1.5 MB a frame was the
+    // sim's RGB-D thread's whole cost in `bench pipeline --prerender` (perf, 2026-11-28).
+    frame = std::move(prerendered_[static_cast<std::size_t>(next_)]);
     // The clock restarted after the rendering; or when read, as a camera delivers.
     frame.timestamp_ns = options_.stamp_on_read ? std::max(monotonic_now_ns(), last_stamp_ns_ + 1)
                                                 : pacer_.timestamp(next_);
@@ -116,8 +118,7 @@ ReadResult SimRgbdSource::read(RgbdFrame& frame, std::chrono::milliseconds timeo
   } else {
     render_frame(next_, frame);
   }
-  // After the timestamp is final (a prerendered frame gets its own here), and on the copy
-  // handed out, so the prerendered frames stay as rendered.
+  // After the timestamp is final (a prerendered frame gets its own here).
   if (options_.stamp) draw_capture_stamp(frame.colour, frame.timestamp_ns);
   ++next_;
   state_ = SourceState::Streaming;
