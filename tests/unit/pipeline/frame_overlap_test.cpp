@@ -152,15 +152,24 @@ TEST(FrameOverlap, OverlappedFramesMatchTheSerialOnesInOrder) {
   EXPECT_GT(stats.summaries().count("download"), 0U);
 }
 
-TEST(FrameOverlap, AThirdFrameOnTheWayIsRefusedAndTheTwoStillFinish) {
+// Frames 0 and 1 composed one at a time (what submit() and finish() must give), then the
+// processor reset for the same frames to go on the way.
+struct TwoComposed {
   Fixture f = make_fixture();
-  FrameProcessor p(f.config, f.rig.calibration, /*keep_matte=*/true);
+  FrameProcessor p{f.config, f.rig.calibration, /*keep_matte=*/true};
   StageStats stats;
-  reset(p, f.frames[0], stats);
-  const CompositeFrame want0 = p.compose(f.frames[0], at_truth(f.frames[0]), stats);
-  const CompositeFrame want1 = p.compose(f.frames[1], at_truth(f.frames[1]), stats);
+  CompositeFrame want0, want1;
+  TwoComposed() {
+    reset(p, f.frames[0], stats);
+    want0 = p.compose(f.frames[0], at_truth(f.frames[0]), stats);
+    want1 = p.compose(f.frames[1], at_truth(f.frames[1]), stats);
+    reset(p, f.frames[0], stats);
+  }
+};
 
-  reset(p, f.frames[0], stats);
+TEST(FrameOverlap, AThirdFrameOnTheWayIsRefusedAndTheTwoStillFinish) {
+  TwoComposed two;
+  auto& [f, p, stats, want0, want1] = two;
   FrameProcessor::InFlight a = p.submit(f.frames[0], at_truth(f.frames[0]), stats);
   FrameProcessor::InFlight b = p.submit(f.frames[1], at_truth(f.frames[1]), stats);
   EXPECT_THROW(p.submit(f.frames[2], at_truth(f.frames[2]), stats), std::logic_error);
@@ -176,14 +185,8 @@ TEST(FrameOverlap, AThirdFrameOnTheWayIsRefusedAndTheTwoStillFinish) {
 }
 
 TEST(FrameOverlap, AFailingSubmitLeavesTheFrameInFlightIntact) {
-  Fixture f = make_fixture();
-  FrameProcessor p(f.config, f.rig.calibration, /*keep_matte=*/true);
-  StageStats stats;
-  reset(p, f.frames[0], stats);
-  const CompositeFrame want0 = p.compose(f.frames[0], at_truth(f.frames[0]), stats);
-  const CompositeFrame want1 = p.compose(f.frames[1], at_truth(f.frames[1]), stats);
-
-  reset(p, f.frames[0], stats);
+  TwoComposed two;
+  auto& [f, p, stats, want0, want1] = two;
   FrameProcessor::InFlight a = p.submit(f.frames[0], at_truth(f.frames[0]), stats);
   {
     // Rendered, then refused at the upload (not the calibration's size), a frame that dies
