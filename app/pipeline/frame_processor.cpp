@@ -117,12 +117,10 @@ CompositeFrame FrameProcessor::compose(const RgbdFrame& frame, const Located& lo
   return finish(submit(frame, located, stats), stats);
 }
 
-FrameProcessor::InFlight::InFlight(InFlight&& other) noexcept
-    : owner_(std::exchange(other.owner_, nullptr)),
-      slot_(std::exchange(other.slot_, -1)),
-      pending_(std::exchange(other.pending_, std::nullopt)),
-      out_(std::move(other.out_)),
-      started_(other.started_) {}
+// From an empty one (release() is a no-op there): the transfer is written once, below.
+FrameProcessor::InFlight::InFlight(InFlight&& other) noexcept {
+  *this = std::move(other);
+}
 
 FrameProcessor::InFlight& FrameProcessor::InFlight::operator=(InFlight&& other) noexcept {
   if (this != &other) {
