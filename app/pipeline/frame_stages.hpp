@@ -54,6 +54,9 @@ struct HdrRadiance {
 struct VirtualLayer {
   std::variant<LdrColour, HdrRadiance> colour;
   const ImageF* depth_mm = nullptr;  // along the optical axis; 0 where no object
+  // Where the layer may be non-zero (RenderTarget::drawn): it is all zeros outside. None:
+  // anywhere.
+  std::optional<PixelRect> drawn;
 };
 
 // Frames whose host memory the device may be reading at once: the one in flight and the one
@@ -73,6 +76,9 @@ struct DeviceFrame {
   const DeviceDepthImage* real_depth = nullptr;
   std::variant<DeviceLdrColour, DeviceHdrRadiance> virtual_colour;
   const DeviceImageF* virtual_depth = nullptr;
+  // VirtualLayer::drawn: the stages after the upload compute only there and around it
+  // (OcclusionInputs::objects).
+  std::optional<PixelRect> objects;
 };
 
 // The download stage's result, handed to the outputs.

@@ -7,18 +7,6 @@
 
 namespace probeless::render {
 
-PixelRect unite(const PixelRect& a, const PixelRect& b) {
-  if (a.empty()) return b;
-  if (b.empty()) return a;
-  return {std::min(a.x0, b.x0), std::min(a.y0, b.y0), std::max(a.x1, b.x1), std::max(a.y1, b.y1)};
-}
-
-PixelRect intersect(const PixelRect& a, const PixelRect& b) {
-  PixelRect r{std::max(a.x0, b.x0), std::max(a.y0, b.y0), std::min(a.x1, b.x1),
-              std::min(a.y1, b.y1)};
-  return r.empty() ? PixelRect{} : r;
-}
-
 PixelRect projected_box(const PinholeIntrinsics& k, const Eigen::Matrix4d& camera_from_object,
                         const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, double near_m) {
   std::array<Eigen::Vector3d, 8> corners;

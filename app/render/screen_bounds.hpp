@@ -6,27 +6,13 @@
 #include <Eigen/Core>
 
 #include "core/camera/pinhole.hpp"
+#include "core/pixel_rect.hpp"
 
 namespace probeless::render {
 
-// The pixels [x0, x1) x [y0, y1) of an image, rows counted from the top; empty when either
-// span is.
-struct PixelRect {
-  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-
-  bool empty() const { return x1 <= x0 || y1 <= y0; }
-  int width() const { return empty() ? 0 : x1 - x0; }
-  int height() const { return empty() ? 0 : y1 - y0; }
-  bool contains_row(int y) const { return !empty() && y >= y0 && y < y1; }
-  bool operator==(const PixelRect&) const = default;
-
-  static PixelRect whole(int width, int height) { return {0, 0, width, height}; }
-};
-
-// The smallest rectangle holding both (an empty one holds nothing).
-PixelRect unite(const PixelRect& a, const PixelRect& b);
-// The pixels in both.
-PixelRect intersect(const PixelRect& a, const PixelRect& b);
+using probeless::intersect;
+using probeless::PixelRect;
+using probeless::unite;
 
 // The pixels where any point of the box [lo, hi] (object frame) can land after
 // `camera_from_object` (scale included) and the pinhole `k`, clipped at `near_m` as the

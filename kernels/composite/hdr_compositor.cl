@@ -49,15 +49,16 @@ inline uint3 encode3(float4 x, __global const uint* entries, int index_base, int
   return v;
 }
 
-// n = pixel count; the frame is flattened (nothing depends on x or y).
+// Pixels [begin, end) of the flattened frame (nothing depends on x or y).
 __kernel void hdr_composite(__global const uchar* real_rgb, __global const float* layer,
-                            __global const float* matte, __global uchar* out_rgb, int n, float4 e,
+                            __global const float* matte, __global uchar* out_rgb, int begin,
+                            int end_pixel, float4 e,
                             float4 inverse_e, __global const float* decode,
                             __global const float* thresholds, __global const uint* entries,
                             int index_base, int index_last) {
-  const int i0 = PIXELS * get_global_id(0);
-  if (i0 >= n) return;
-  const int end = min(i0 + PIXELS, n);
+  const int i0 = begin + PIXELS * get_global_id(0);
+  if (i0 >= end_pixel) return;
+  const int end = min(i0 + PIXELS, end_pixel);
   for (int i = i0; i < end; ++i) {
     const float m_raw = matte[i];
     if (!(m_raw > 0.0f)) continue;  // no virtual layer, or all of it hidden: out = real

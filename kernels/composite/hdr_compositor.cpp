@@ -33,7 +33,7 @@ void HdrCompositor::use_gamma(double gamma) {
 
 void HdrCompositor::process(const DeviceImageRGB8& real_rgb, const DeviceImage<float, 4>& layer,
                             const DeviceImageF& matte, const CameraResponse& camera,
-                            DeviceImageRGB8& out) {
+                            DeviceImageRGB8& out, const std::optional<PixelRect>& objects) {
   if (!layer.same_size(real_rgb) || !matte.same_size(real_rgb))
     throw std::invalid_argument(
         "HdrCompositor: real (" + std::to_string(real_rgb.width()) + "x" +
@@ -47,13 +47,18 @@ void HdrCompositor::process(const DeviceImageRGB8& real_rgb, const DeviceImage<f
   // The frame as it is, then the kernel rewrites the pixels with a virtual layer (matte > 0):
   // a device-side memcpy is cheaper than any kernel copying 3-byte pixels.
   ctx_.queue().enqueueCopyBuffer(real_rgb.buffer(), out.buffer(), 0, 0, real_rgb.size_bytes());
-  const auto n = static_cast<int>(out.pixel_count());
+  const int w = out.width();
+  const PixelRect whole = PixelRect::whole(w, out.height());
+  const PixelRect rows = objects ? intersect(*objects, whole) : whole;
+  if (rows.empty()) return;
+  const int begin = rows.y0 * w, end = rows.y1 * w;  // flattened: whole rows
   int a = 0;
   kernel_.setArg(a++, real_rgb.buffer());
   kernel_.setArg(a++, layer.buffer());
   kernel_.setArg(a++, matte.buffer());
   kernel_.setArg(a++, out.buffer());
-  kernel_.setArg(a++, n);
+  kernel_.setArg(a++, begin);
+  kernel_.setArg(a++, end);
   kernel_.setArg(a++, cl_float4{{f.e[0], f.e[1], f.e[2], 0.0F}});
   kernel_.setArg(a++, cl_float4{{f.inverse_e[0], f.inverse_e[1], f.inverse_e[2], 0.0F}});
   kernel_.setArg(a++, decode_);
@@ -62,7 +67,8 @@ void HdrCompositor::process(const DeviceImageRGB8& real_rgb, const DeviceImage<f
   kernel_.setArg(a++, curve_->index_base());
   kernel_.setArg(a++, curve_->index_last());
   // One dimension over the flattened frame, work-groups as large as run_2d's.
-  const std::size_t items = (static_cast<std::size_t>(n) + kPixelsPerItem - 1) / kPixelsPerItem;
+  const std::size_t items =
+      (static_cast<std::size_t>(end - begin) + kPixelsPerItem - 1) / kPixelsPerItem;
   const std::size_t local = ctx_.local_2d()[0] * ctx_.local_2d()[1];
   ctx_.queue().enqueueNDRangeKernel(kernel_, ::cl::NullRange,
                                     ::cl::NDRange((items + local - 1) / local * local),

@@ -28,8 +28,11 @@ class HdrCompositor {
   // out (resized to the inputs) = re-exposed m * layer + (1 - m * c) * real, clamped at 0
   // radiance; pixels with matte 0 keep their bytes. Throws std::invalid_argument when sizes
   // differ or `camera` is invalid (validate()). Enqueues on ctx's queue and does not wait.
+  // `objects`: the matte is 0 outside this rectangle (OcclusionInputs::objects), so only its
+  // rows are visited after the copy of the frame.
   void process(const DeviceImageRGB8& real_rgb, const DeviceImage<float, 4>& layer,
-               const DeviceImageF& matte, const CameraResponse& camera, DeviceImageRGB8& out);
+               const DeviceImageF& matte, const CameraResponse& camera, DeviceImageRGB8& out,
+               const std::optional<PixelRect>& objects = std::nullopt);
 
  private:
   // (Re)builds and uploads the curve's tables on a change of gamma, and the kernel when the

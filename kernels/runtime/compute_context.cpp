@@ -176,4 +176,12 @@ void ComputeContext::run_2d(const ::cl::Kernel& kernel, int width, int height) {
   queue_.enqueueNDRangeKernel(kernel, ::cl::NullRange, global, local_2d_);
 }
 
+void ComputeContext::run_2d(const ::cl::Kernel& kernel, const PixelRect& rect) {
+  if (rect.empty()) return;
+  const ::cl::NDRange offset(static_cast<std::size_t>(rect.x0), static_cast<std::size_t>(rect.y0));
+  const ::cl::NDRange global(round_up(static_cast<std::size_t>(rect.width()), local_2d_[0]),
+                             round_up(static_cast<std::size_t>(rect.height()), local_2d_[1]));
+  queue_.enqueueNDRangeKernel(kernel, offset, global, local_2d_);
+}
+
 }  // namespace probeless

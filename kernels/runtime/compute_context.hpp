@@ -9,6 +9,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/pixel_rect.hpp"
 #include "kernels/runtime/cl_error.hpp"
 #include "kernels/runtime/device_list.hpp"
 
@@ -62,6 +63,10 @@ class ComputeContext {
   // Enqueues a 2D kernel over width x height, the global size rounded up to the local size;
   // the kernel must bound-check its ids. Empty sizes enqueue nothing.
   void run_2d(const ::cl::Kernel& kernel, int width, int height);
+  // The same over the pixels of `rect` only, as a global offset: get_global_id() are the
+  // pixels' own coordinates (the rounding may add ids past the rect, inside the image or not,
+  // so the kernel must be right, and bound-checked, anywhere).
+  void run_2d(const ::cl::Kernel& kernel, const PixelRect& rect);
   // The local size run_2d uses (chosen per device type, docs/opencl.md).
   ::cl::NDRange local_2d() const { return local_2d_; }
 

@@ -5,9 +5,11 @@
 // ComputeContext it was constructed with and does not wait for it (the in-order queue orders
 // the next stage after it; whoever downloads the result waits).
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "core/pixel_rect.hpp"
 #include "kernels/runtime/device_image.hpp"
 
 namespace probeless::occlusion {
@@ -15,12 +17,31 @@ namespace probeless::occlusion {
 // All on the device, all the same width x height (the RGB-D camera's colour frame, with the
 // real depth registered to it and the virtual depth rendered from the same camera).
 struct OcclusionInputs {
+  OcclusionInputs() = default;
+  OcclusionInputs(const DeviceImage<std::uint8_t, 3>* colour_rgb,
+                  const DeviceImage<std::uint16_t, 1>* real_mm,
+                  const DeviceImage<float, 1>* virtual_mm,
+                  std::optional<PixelRect> object_pixels = std::nullopt)
+      : colour(colour_rgb),
+        real_depth_mm(real_mm),
+        virtual_depth_mm(virtual_mm),
+        objects(object_pixels) {}
+
   const DeviceImage<std::uint8_t, 3>* colour = nullptr;          // real RGB8 frame (the guide)
   const DeviceImage<std::uint16_t, 1>* real_depth_mm = nullptr;  // 0 = unknown
   const DeviceImage<float, 1>* virtual_depth_mm = nullptr;       // 0 = no virtual object there
+  // Where the virtual depth may be > 0: it is 0 everywhere else (the renderer's drawn
+  // rectangle, RenderTarget::drawn). None: anywhere. Stages that are given it compute only
+  // there and within their reach around it, with the same result as over the whole frame.
+  std::optional<PixelRect> objects;
 
   int width() const { return colour ? colour->width() : 0; }
   int height() const { return colour ? colour->height() : 0; }
+  // `objects` clipped to the frame; the whole frame without it.
+  PixelRect object_rect() const {
+    const auto whole = PixelRect::whole(width(), height());
+    return objects ? intersect(*objects, whole) : whole;
+  }
 };
 
 // Throws std::invalid_argument unless every input is present and they all share one size.

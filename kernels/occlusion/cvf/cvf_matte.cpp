@@ -161,8 +161,11 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
   judged_depth_ = nullptr;
   cores_run_ = hole_cores_ && in.width() > 0;
   if (cores_run_) {
-    inputs.real_depth_mm = &hole_cores_->run(
-        *in.real_depth_mm, hole_core_radius(params_.hole_core_px, in.width()), in.colour);
+    // Over the objects' rectangle only: the depth test is "ignore" off the object, so nothing
+    // after it reads the depth there, except the near occluders' colour models.
+    inputs.real_depth_mm =
+        &hole_cores_->run(*in.real_depth_mm, hole_core_radius(params_.hole_core_px, in.width()),
+                          in.colour, near_ ? std::nullopt : in.objects);
     stage_done("hole cores");
   }
   if (layout_ == CvfLayout::Tiles) {

@@ -123,17 +123,24 @@ __kernel void hole_core_rows(__global const ushort* depth, __global uchar* rows,
 }
 
 // The column pass over `rows`, the same rule; where it holds and the depth is unknown (or
-// already NEAR_MM), NEAR_MM, else the depth. 16 adjacent columns a work-item (x0 = 16 gid),
-// one 16-byte load per row instead of 16 cache lines; a partial last group a column at a time.
+// already NEAR_MM), NEAR_MM, else the depth. 16 adjacent columns a work-item (x0 = x_begin +
+// 16 gid), one 16-byte load per row instead of 16 cache lines; a partial last group a column
+// at a time. Only columns [x_begin, x_end) and rows [y_begin, y_end) are written (the pixels
+// the stages after need, HoleCoreFill::run()); `rows` must hold rows y_begin - r - 1 ..
+// y_end + r.
 __kernel void hole_core_fill(__global const ushort* depth, __global const uchar* rows,
-                             __global ushort* out, int w, int h, int r, int need_all) {
-  const int x0 = get_global_id(0) * 16;
-  if (x0 >= w) return;
-  if (x0 + 16 > w) {
-    for (int x = x0; x < w; ++x) {
+                             __global ushort* out, int w, int h, int r, int need_all, int x_begin,
+                             int x_end, int y_begin, int y_end) {
+  const int x0 = x_begin + get_global_id(0) * 16;
+  if (x0 >= x_end) return;
+  // n: the count over rows [y_begin - r - 1, y_begin + r - 1] (clipped), what the step of
+  // row y_begin expects (it adds row y_begin + r and takes row y_begin - r - 1 away).
+  const int first = max(0, y_begin - r - 1), last = min(h, y_begin + r);
+  if (x0 + 16 > x_end) {
+    for (int x = x0; x < x_end; ++x) {
       int n = 0;
-      for (int k = 0; k < min(r, h); ++k) n += rows[k * w + x];
-      for (int y = 0; y < h; ++y) {
+      for (int k = first; k < last; ++k) n += rows[k * w + x];
+      for (int y = y_begin; y < y_end; ++y) {
         if (y + r < h) n += rows[(y + r) * w + x];
         if (y - r - 1 >= 0) n -= rows[(y - r - 1) * w + x];
         const int span = min(h - 1, y + r) - max(0, y - r) + 1;
@@ -145,8 +152,8 @@ __kernel void hole_core_fill(__global const ushort* depth, __global const uchar*
     return;
   }
   short16 n = (short16)(0);
-  for (int k = 0; k < min(r, h); ++k) n += convert_short16(vload16(0, rows + k * w + x0));
-  for (int y = 0; y < h; ++y) {
+  for (int k = first; k < last; ++k) n += convert_short16(vload16(0, rows + k * w + x0));
+  for (int y = y_begin; y < y_end; ++y) {
     if (y + r < h) n += convert_short16(vload16(0, rows + (y + r) * w + x0));
     if (y - r - 1 >= 0) n -= convert_short16(vload16(0, rows + (y - r - 1) * w + x0));
     const short span = (short)(min(h - 1, y + r) - max(0, y - r) + 1);

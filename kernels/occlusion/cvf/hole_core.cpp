@@ -18,11 +18,15 @@ HoleCoreFill::HoleCoreFill(ComputeContext& ctx) : ctx_(ctx) {
 
 void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::uint16_t value,
                                bool need_all, DeviceImage<std::uint16_t, 1>& out, int radius,
-                               const DeviceImage<std::uint8_t, 3>* colour) {
+                               const DeviceImage<std::uint8_t, 3>* colour,
+                               const PixelRect& needed) {
   const int w = depth.width(), h = depth.height();
   row_hits_.resize(ctx_.context(), w, h);
   out.resize(ctx_.context(), w, h);
-  if (w * h == 0) return;
+  if (needed.empty()) return;
+  // The column pass at rows [y0, y1) reads the row pass's hits from r + 1 rows above to r
+  // below (its sliding count starts with the row that leaves the window first).
+  const PixelRect rows = grown(needed, radius + 1, w, h);
   int a = 0;
   rows_.setArg(a++, depth.buffer());
   rows_.setArg(a++, row_hits_.buffer());
@@ -36,8 +40,8 @@ void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::
   rows_.setArg(a++, colour ? 1 : 0);
   // Work-groups of one work-item: PoCL would otherwise put all rows (or all column groups)
   // into one work-group, which runs on one core while the other waits.
-  ctx_.queue().enqueueNDRangeKernel(rows_, ::cl::NullRange, ::cl::NDRange(std::size_t(h)),
-                                    ::cl::NDRange(1));
+  ctx_.queue().enqueueNDRangeKernel(rows_, ::cl::NDRange(std::size_t(rows.y0)),
+                                    ::cl::NDRange(std::size_t(rows.height())), ::cl::NDRange(1));
   a = 0;
   fill_.setArg(a++, depth.buffer());
   fill_.setArg(a++, row_hits_.buffer());
@@ -46,25 +50,34 @@ void HoleCoreFill::window_pass(const DeviceImage<std::uint16_t, 1>& depth, std::
   fill_.setArg(a++, h);
   fill_.setArg(a++, radius);
   fill_.setArg(a++, need_all ? 1 : 0);
-  ctx_.queue().enqueueNDRangeKernel(fill_, ::cl::NullRange,
-                                    ::cl::NDRange(static_cast<std::size_t>((w + 15) / 16)),
-                                    ::cl::NDRange(1));
+  fill_.setArg(a++, needed.x0);
+  fill_.setArg(a++, needed.x1);
+  fill_.setArg(a++, needed.y0);
+  fill_.setArg(a++, needed.y1);
+  ctx_.queue().enqueueNDRangeKernel(
+      fill_, ::cl::NullRange, ::cl::NDRange(static_cast<std::size_t>((needed.width() + 15) / 16)),
+      ::cl::NDRange(1));
 }
 
 const DeviceImage<std::uint16_t, 1>& HoleCoreFill::run(const DeviceImage<std::uint16_t, 1>& depth,
                                                        int radius,
-                                                       const DeviceImage<std::uint8_t, 3>* colour) {
+                                                       const DeviceImage<std::uint8_t, 3>* colour,
+                                                       const std::optional<PixelRect>& needed) {
   if (radius < 1) throw std::invalid_argument("hole core: radius must be >= 1");
   if (colour && !colour->same_size(depth))
     throw std::invalid_argument("hole core: colour and depth sizes differ");
   radius_ = radius;
-  window_pass(depth, 0, true, filled_, radius, colour);
+  const PixelRect whole = PixelRect::whole(depth.width(), depth.height());
+  needed_ = needed ? intersect(*needed, whole) : whole;
+  // The marks at a pixel read the filled depth r px around it.
+  window_pass(depth, 0, true, filled_, radius, colour,
+              grown(needed_, radius, depth.width(), depth.height()));
   return filled_;
 }
 
 const DeviceImage<std::uint16_t, 1>& HoleCoreFill::mark_near_occluders() {
   if (radius_ < 1) throw std::logic_error("hole core: mark_near_occluders() before run()");
-  window_pass(filled_, kNearHoleDepthMm, false, marked_, radius_, nullptr);
+  window_pass(filled_, kNearHoleDepthMm, false, marked_, radius_, nullptr, needed_);
   return marked_;
 }
 

@@ -18,7 +18,8 @@ ForegroundEstimate::ForegroundEstimate(ComputeContext& ctx, const ForegroundEsti
 
 void ForegroundEstimate::process(const DeviceImageRGB8& colour,
                                  const DeviceImageF& virtual_depth_mm,
-                                 const DeviceImageF& visibility, DeviceImageRGB8& out) {
+                                 const DeviceImageF& visibility, DeviceImageRGB8& out,
+                                 const std::optional<PixelRect>& objects) {
   if (!virtual_depth_mm.same_size(colour) || !visibility.same_size(colour))
     throw std::invalid_argument("foreground estimate: colour (" + std::to_string(colour.width()) +
                                 "x" + std::to_string(colour.height()) + "), virtual depth (" +
@@ -41,7 +42,14 @@ void ForegroundEstimate::process(const DeviceImageRGB8& colour,
   kernel_.setArg(a++, params_.confident);
   kernel_.setArg(a++, 1.0F - params_.confident);
   kernel_.setArg(a++, static_cast<float>(1.0 / params_.gamma));
-  ctx_.run_2d(kernel_, w, h);
+  const PixelRect whole = PixelRect::whole(w, h);
+  const PixelRect rect = objects ? intersect(*objects, whole) : whole;
+  if (rect == whole) {
+    ctx_.run_2d(kernel_, w, h);
+    return;
+  }
+  ctx_.queue().enqueueCopyBuffer(colour.buffer(), out.buffer(), 0, 0, colour.size_bytes());
+  ctx_.run_2d(kernel_, rect);
 }
 
 }  // namespace probeless::occlusion

@@ -116,14 +116,15 @@ inline ulong16 texels(vf alpha, vf r, vf g, vf b, vi on) {
 
 // In place: each pixel of `alpha` is read and written by one lane only; the history is read
 // from prev_* and written to next_* (two buffers). Without a previous frame only the history
-// is written.
+// is written. Rows [first_row, end_row) only: the host keeps the others free of the object.
 __kernel void stabilise_matte(__global float* alpha, __global const uchar* colour,
                               __global const ushort* real_depth, __global const float* virt,
                               __global const ulong* prev_hist, __global const ushort* prev_depth,
                               __global ulong* next_hist, __global ushort* next_depth, int width,
-                              int height, int strip_rows, int have_previous, Motion m) {
-  const int y_begin = (int)get_global_id(1) * strip_rows;
-  const int y_end = min(y_begin + strip_rows, height);
+                              int height, int first_row, int end_row, int strip_rows,
+                              int have_previous, Motion m) {
+  const int y_begin = first_row + (int)get_global_id(1) * strip_rows;
+  const int y_end = min(y_begin + strip_rows, end_row);
   for (int y = y_begin; y < y_end; ++y) {
     const int row = y * width;
     for (int x0 = 0; x0 < width; x0 += VW) {

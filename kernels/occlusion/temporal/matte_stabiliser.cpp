@@ -60,6 +60,7 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
     for (int b = 0; b < 2; ++b) {
       history_[b].resize(ctx_.context(), w, h);
       depth_[b].resize(ctx_.context(), w, h);
+      flagged_rows_[b] = PixelRect::whole(w, h);
     }
   }
   if (w > 0 && h > 0) {
@@ -83,10 +84,16 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
     m.snap = params_.snap;
     // Strips of rows, one work-item each: a few per compute unit so that a strip with more of
     // the object does not leave the other units idle.
-    const int strips = std::min(h, 8 * std::max(1, static_cast<int>(ctx_.info().compute_units)));
-    const int strip_rows = (h + strips - 1) / strips;
-    const int groups = (h + strip_rows - 1) / strip_rows;
     const int next = 1 - previous_;
+    // The object's rows, and those where the buffer written now held it: off the object the
+    // kernel writes "no object" into the history, which clears them.
+    const PixelRect object_rows = in.object_rect();
+    const PixelRect rows = unite(object_rows, flagged_rows_[next]);
+    flagged_rows_[next] = object_rows;
+    const int strips = std::min(std::max(rows.height(), 1),
+                                8 * std::max(1, static_cast<int>(ctx_.info().compute_units)));
+    const int strip_rows = std::max(1, (rows.height() + strips - 1) / strips);
+    const int groups = (rows.height() + strip_rows - 1) / strip_rows;
     int a = 0;
     kernel_.setArg(a++, alpha.buffer());
     kernel_.setArg(a++, in.colour->buffer());
@@ -98,12 +105,15 @@ void MatteStabiliser::process(const OcclusionInputs& in, const PinholeIntrinsics
     kernel_.setArg(a++, depth_[next].buffer());
     kernel_.setArg(a++, w);
     kernel_.setArg(a++, h);
+    kernel_.setArg(a++, rows.y0);
+    kernel_.setArg(a++, rows.y1);
     kernel_.setArg(a++, strip_rows);
     kernel_.setArg(a++, have_previous_ ? 1 : 0);
     kernel_.setArg(a++, sizeof(m), &m);
-    ctx_.queue().enqueueNDRangeKernel(kernel_, ::cl::NullRange,
-                                      ::cl::NDRange(1, static_cast<std::size_t>(groups)),
-                                      ::cl::NDRange(1, 1));
+    if (groups > 0)
+      ctx_.queue().enqueueNDRangeKernel(kernel_, ::cl::NullRange,
+                                        ::cl::NDRange(1, static_cast<std::size_t>(groups)),
+                                        ::cl::NDRange(1, 1));
     previous_ = next;  // this frame becomes the previous one
   }
   previous_pose_ = T_world_camera;

@@ -20,7 +20,9 @@ class MatteStabiliser {
   // `alpha`: the current frame's matte of `in` (every image one size, else
   // std::invalid_argument). `T_world_camera`: the colour camera's pose; without one the
   // motion since the previous frame is taken as none (identity). A frame of another size
-  // than the previous one starts over.
+  // than the previous one starts over. Only the rows of in.objects are visited (with those
+  // the history buffer being written held the object at, to clear them): the matte outside
+  // is left as it is, as it is off the object.
   void process(const OcclusionInputs& in, const PinholeIntrinsics& intrinsics,
                const std::optional<Pose>& T_world_camera, DeviceImage<float, 1>& alpha);
   // Forget the previous frame (the pose was lost, the source restarted).
@@ -37,6 +39,9 @@ class MatteStabiliser {
   // and the real depth. [previous_] holds the previous frame, the other one is written.
   DeviceImage<std::uint64_t, 1> history_[2];
   DeviceImage<std::uint16_t, 1> depth_[2];
+  // Per history buffer: the rows outside which it holds no on-object flag (the rows it was
+  // last written over; the whole frame while its contents are undefined).
+  PixelRect flagged_rows_[2];
   int previous_ = 0;
 };
 

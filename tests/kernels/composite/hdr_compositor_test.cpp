@@ -253,6 +253,37 @@ TEST(HdrCompositor, HandMadeCasesOnTheDevice) {
           << cases[i].what << ", channel " << c;
 }
 
+// Given the objects' rectangle (the matte 0 outside), only its rows are visited after the
+// copy of the frame: the same image as over the whole frame, whatever the output held before.
+TEST(HdrCompositor, OverTheObjectsRowsTheWholeFramesImage) {
+  auto& ctx = cl_context();
+  HdrCompositor compositor(ctx);
+  const int w = 97, h = 53;
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0F, 1.0F);
+  ImageRGB8 real(w, h), other(w, h);
+  ImageRGBAF layer(w, h);
+  for (auto& v : real.elements()) v = static_cast<std::uint8_t>(rng() % 256);
+  for (auto& v : other.elements()) v = static_cast<std::uint8_t>(rng() % 256);
+  for (auto& v : layer.elements()) v = 2.0F * u(rng);
+  const PixelRect rects[] = {{10, 7, 60, 31}, {90, 40, 97, 53}, {0, 0, 1, 1}, {}};
+  for (const PixelRect& rect : rects) {
+    ImageF matte(w, h, 0.0F);
+    for (int y = rect.y0; y < rect.y1; ++y)
+      for (int x = rect.x0; x < rect.x1; ++x) matte.at(x, y) = u(rng) < 0.5F ? 1.0F : u(rng);
+    const DeviceImageRGB8 d_real(ctx, real), d_other(ctx, other);
+    const DeviceImage<float, 4> d_layer(ctx, layer);
+    const DeviceImageF d_matte(ctx, matte), everywhere(ctx, ImageF(w, h, 1.0F));
+    DeviceImageRGB8 whole, cut;
+    compositor.process(d_real, d_layer, d_matte, kCamera, whole);
+    compositor.process(d_other, d_layer, everywhere, kCamera, cut);
+    compositor.process(d_real, d_layer, d_matte, kCamera, cut, rect);
+    const auto want = whole.download(ctx.queue());
+    EXPECT_EQ(cut.download(ctx.queue()), want) << rect.x0 << "," << rect.y0;
+    EXPECT_EQ(want == real, rect.empty()) << "the layer shows inside the rectangle";
+  }
+}
+
 // An unchanged real pixel comes back identical for every byte, whatever the exposure, also
 // where the matte is on (the layer empty there) and the arithmetic runs rather than the copy.
 TEST(HdrCompositor, UnchangedRealPixelsRoundTripExactly) {

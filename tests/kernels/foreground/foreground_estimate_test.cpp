@@ -167,6 +167,34 @@ TEST(ForegroundEstimate, KeepsPixelsThatAreNotFractionalOrLackSamples) {
   EXPECT_EQ(out.download(ctx.queue()), colour);
 }
 
+// With the objects' rectangle (the virtual depth 0 outside it) the colour is copied and the
+// kernel runs over the rectangle: the same image as over the whole frame, whatever the output
+// held before (here the estimate of another frame).
+TEST(ForegroundEstimate, OverTheObjectsRectangleTheWholeFramesImage) {
+  auto& ctx = cl_context();
+  ForegroundEstimate stage(ctx);
+  const int w = 141, h = 67;
+  const PixelRect rects[] = {{20, 9, 77, 50}, {-3, 40, 30, 80}, {130, 0, 141, 1}, {}};
+  unsigned seed = 21;
+  for (const PixelRect& rect : rects) {
+    auto in = random_inputs(w, h, seed++);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (!rect.contains(x, y)) in.virt.at(x, y) = 0.0F;
+    const auto other = random_inputs(w, h, seed++);
+    const DeviceImageRGB8 colour(ctx, in.colour), other_colour(ctx, other.colour);
+    const DeviceImageF virt(ctx, in.virt), vis(ctx, in.vis);
+    const DeviceImageF other_virt(ctx, other.virt), other_vis(ctx, other.vis);
+    DeviceImageRGB8 whole, cut;
+    stage.process(colour, virt, vis, whole);
+    stage.process(other_colour, other_virt, other_vis, cut);
+    stage.process(colour, virt, vis, cut, rect);
+    const auto want = whole.download(ctx.queue());
+    EXPECT_EQ(cut.download(ctx.queue()), want) << rect.x0 << "," << rect.y0;
+    EXPECT_EQ(want != in.colour, !rect.empty()) << "pixels are estimated inside the rectangle";
+  }
+}
+
 TEST(ForegroundEstimate, RejectsBadInput) {
   auto& ctx = cl_context();
   EXPECT_THROW(ForegroundEstimate(ctx, {.radius_px = 0}), std::invalid_argument);

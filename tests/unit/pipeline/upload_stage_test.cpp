@@ -27,7 +27,7 @@ RgbdFrame random_frame(int w, int h) {
 struct Layer {
   ImageRGBA8 colour;
   ImageF depth;
-  VirtualLayer view() { return {LdrColour{&colour}, &depth}; }
+  VirtualLayer view() { return {LdrColour{&colour}, &depth, std::nullopt}; }
 };
 
 Layer empty_layer(int w, int h) {
