@@ -84,7 +84,8 @@ inline vf raw_categories(__global const ushort* real_mm, __global const float* v
 // Scratch per strip: NRAW raw rows, 2 count rows, NCAT category rows, 1 count row; with LOCAL
 // 2 prior count rows and the row of tiles' histograms (tiles_x x 2 NBINS counts).
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
-    int w, int h, int strip_rows, float tolerance_mm, __global float* scratch,
+    int w, int h, int strip_rows, int row_begin, int row_end, float tolerance_mm,
+    __global float* scratch,
     __global const ushort* real_mm, __global const float* virtual_mm, __global const uchar* rgb,
     __global uchar* categories, __global uint* hist, __global int* object_cols LOCAL_ARGS) {
   __local uint local_hist[2 * NBINS];
@@ -108,8 +109,9 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void cvf_classify(
   for (int k = -PAD; k < srow - PAD; ++k) prior_in[k] = prior_be[k] = 0.0f;
   for (int k = 0; k < tiles_x * 2 * NBINS; ++k) tile_row[k] = 0;
 #endif
-  const int y0 = (int)get_group_id(1) * strip_rows;
-  const int y1 = min(h, y0 + strip_rows);
+  // Rows [row_begin, row_end) only: the host fills the others' outputs (CvfMatte).
+  const int y0 = row_begin + (int)get_group_id(1) * strip_rows;
+  const int y1 = min(row_end, y0 + strip_rows);
 
   const int first_cat = y0 - MAXR, first_raw = first_cat - EROSION;
   const int start = first_raw - EROSION;

@@ -236,6 +236,22 @@ void CvfMatte::process_tiles(const OcclusionInputs& in, DeviceImage<float, 1>& a
   stage_done("feather apply");
 }
 
+void CvfMatte::fill_known_rows(const PixelRect& rows, int w, int h) {
+  if (rows.height() == h) return;  // the kernel writes every row
+  auto& q = ctx_.queue();
+  // Per row (begin, end) = (w, 0): no object columns.
+  q.enqueueFillBuffer(row_object_, cl_int2{{w, 0}}, 0, 2 * sizeof(cl_int) * h);
+  const auto fill_rows = [&](const ::cl::Buffer& buffer, std::size_t bytes_per_row) {
+    const int above = rows.empty() ? h : rows.y0;  // rows [0, above) and [rows.y1, h)
+    if (above > 0) q.enqueueFillBuffer(buffer, cl_uchar{0}, 0, bytes_per_row * above);
+    if (!rows.empty() && rows.y1 < h)
+      q.enqueueFillBuffer(buffer, cl_uchar{0}, bytes_per_row * rows.y1,
+                          bytes_per_row * (h - rows.y1));
+  };
+  fill_rows(categories_.buffer(), static_cast<std::size_t>(w));
+  if (local_) fill_rows(prior_.buffer(), 2 * static_cast<std::size_t>(w));
+}
+
 void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) {
   const CvfParams& p = params_.cvf;
   const int w = in.width(), h = in.height();
@@ -271,10 +287,15 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
   {
     // A strip walks 2 (erosion + max(band, prior)) rows outside it (cvf.cl).
     const int reach = std::max(p.band_px, local_ ? params_.prior_radius : 0);
-    const int strips = StripGuidedFilter::strip_count(h, 2 * (p.categorise.erosion_px + reach),
+    // Off the object every pixel is "ignore"; the band and the prior reach `reach` px beyond
+    // it. Rows farther from the objects' rectangle are known without a look: no category, no
+    // band, no prior counts, no object columns. They are filled, the kernel runs over the rest.
+    const PixelRect work = grown(in.object_rect(), reach, w, h);
+    const int strips = StripGuidedFilter::strip_count(std::max(work.height(), 1),
+                                                      2 * (p.categorise.erosion_px + reach),
                                                       static_cast<int>(ctx_.info().compute_units));
-    const int strip_rows = (h + strips - 1) / strips;
-    const int groups = (h + strip_rows - 1) / strip_rows;
+    const int strip_rows = std::max(1, (work.height() + strips - 1) / strips);
+    const int groups = (work.height() + strip_rows - 1) / strip_rows;
     const std::size_t srow = StripGuidedFilter::scratch_row(w);
     const std::size_t rows = 2 * p.categorise.erosion_px + 2 + 3 + 2 * reach + 2 + (local_ ? 2 : 0);
     const std::size_t floats = srow * rows + static_cast<std::size_t>(tx) * 2 * nbins;
@@ -287,12 +308,15 @@ void CvfMatte::process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& 
       row_object_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, 2 * sizeof(cl_int) * h);
       row_object_rows_ = h;
     }
-    set_args(classify_, w, h, strip_rows, p.categorise.depth_tolerance_mm, classify_scratch_,
-             in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(), in.colour->buffer(),
-             categories, hist_, row_object_);
-    if (local_) set_args_from(classify_, 11, tx, tile_hist_, prior_.buffer());
-    q.enqueueNDRangeKernel(classify_, ::cl::NullRange,
-                           ::cl::NDRange(1, static_cast<std::size_t>(groups)), ::cl::NDRange(1, 1));
+    fill_known_rows(work, w, h);
+    set_args(classify_, w, h, strip_rows, work.y0, work.y1, p.categorise.depth_tolerance_mm,
+             classify_scratch_, in.real_depth_mm->buffer(), in.virtual_depth_mm->buffer(),
+             in.colour->buffer(), categories, hist_, row_object_);
+    if (local_) set_args_from(classify_, 13, tx, tile_hist_, prior_.buffer());
+    if (groups > 0)
+      q.enqueueNDRangeKernel(classify_, ::cl::NullRange,
+                             ::cl::NDRange(1, static_cast<std::size_t>(groups)),
+                             ::cl::NDRange(1, 1));
   }
   stage_done("categories + band + histograms");
   // Pixels whose filter windows see no object are not filtered (cvf_guided.cl,

@@ -93,6 +93,8 @@ class CvfMatte final : public OcclusionMethod {
   int tiles_x(int w) const { return (w + params_.tile_px - 1) / params_.tile_px; }
   int tiles_y(int h) const { return (h + params_.tile_px - 1) / params_.tile_px; }
   void process_strips(const OcclusionInputs& in, DeviceImage<float, 1>& alpha);
+  // The classify kernel's outputs outside `rows`, known without a look (process_strips()).
+  void fill_known_rows(const PixelRect& rows, int w, int h);
   void process_tiles(const OcclusionInputs& in, DeviceImage<float, 1>& alpha);
   // Histogram buffer: infront and behind counts, then their two totals.
   std::size_t hist_bytes() const {

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "kernels/occlusion/cvf/cvf_matte.hpp"
 #include "kernels/occlusion/cvf/hole_core.hpp"
 #include "kernels/occlusion/cvf/hole_core_reference.hpp"
 #include "kernels/occlusion/method_registry.hpp"
@@ -117,6 +118,39 @@ TEST(CvfMatte, TheObjectsRectangleGivesTheWholeFramesMatte) {
       const auto jb = cut->as_judged(in_cut).real_depth_mm->download(ctx.queue());
       EXPECT_TRUE(equal_inside(ja, jb, drawn));
     }
+  }
+}
+
+// What the first kernel leaves for the filters (categories, band, colour models of the frame
+// and the tiles) over the whole frame, where the rows far from the rectangle are filled, not
+// computed; after a frame whose object covered the frame.
+TEST(CvfMatte, TheObjectsRectangleGivesTheWholeFramesCategoriesAndModels) {
+  auto& ctx = cl_context();
+  const int w = 320, h = 240;
+  CvfMatte whole(ctx, CvfLocalParams{}, true), cut(ctx, CvfLocalParams{}, true);
+  for (const PixelRect& object : {PixelRect{60, 40, 260, 220}, PixelRect{0, 200, 50, 240},
+                                  PixelRect{100, 0, 200, 3}, PixelRect{}}) {
+    const auto other = scene(w, h, {0, 0, w, h}, {0, 0, 80, 240}, 5);
+    const DeviceImageRGB8 other_colour(ctx, other.colour);
+    const DeviceImage<std::uint16_t, 1> other_depth(ctx, other.depth);
+    const DeviceImageF other_virt(ctx, other.virt);
+    DeviceImageF alpha_whole, alpha_cut;
+    cut.process({&other_colour, &other_depth, &other_virt}, alpha_cut);
+    const auto s = scene(w, h, object, {150, 60, 230, 200}, 6);
+    const DeviceImageRGB8 colour(ctx, s.colour);
+    const DeviceImage<std::uint16_t, 1> depth(ctx, s.depth);
+    const DeviceImageF virt(ctx, s.virt);
+    whole.process({&colour, &depth, &virt}, alpha_whole);
+    cut.process({&colour, &depth, &virt, grown(object, 1, w, h)}, alpha_cut);
+    const auto a = whole.download_trace(), b = cut.download_trace();
+    const auto where = ::testing::Message() << "object at " << object.x0 << "," << object.y0;
+    EXPECT_EQ(a.categories, b.categories) << where;
+    EXPECT_EQ(a.band, b.band) << where;
+    EXPECT_EQ(a.models.infront, b.models.infront) << where;
+    EXPECT_EQ(a.models.behind, b.models.behind) << where;
+    EXPECT_EQ(a.tiles.infront, b.tiles.infront) << where;
+    EXPECT_EQ(a.tiles.behind, b.tiles.behind) << where;
+    EXPECT_EQ(alpha_whole.download(ctx.queue()), alpha_cut.download(ctx.queue())) << where;
   }
 }
 
