@@ -6,6 +6,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <string>
 
 namespace probeless {
@@ -14,16 +16,22 @@ inline void name_this_thread(const std::string& name) {
   pthread_setname_np(pthread_self(), name.substr(0, 15).c_str());
 }
 
-// The light thread's nice value: CFS then gives it about a tenth of a frame thread's share
-// of a busy core (weights 110 against 1024), and all it wants when the cores are idle.
-inline constexpr int kLightThreadNice = 10;
+// How far the light thread's nice value goes above the process's: at +10 CFS gives it about a
+// tenth of a frame thread's share of a busy core (weights 110 against 1024), and all it wants
+// when the cores are idle.
+inline constexpr int kLightThreadNiceSteps = 10;
 
-// Lowers the calling thread's scheduling priority to `nice` (Linux: a thread's own nice value;
-// raising it needs no privilege). Best effort: a refusal leaves the thread as it was. Threads
-// created afterwards inherit it, so call it after the thread's OpenCL context exists (PoCL's
-// workers must keep the frames' priority).
-inline void lower_this_thread_priority(int nice) {
-  (void)setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), nice);
+// Lowers the calling thread's scheduling priority by `steps` nice levels (Linux: a thread's own
+// nice value), to 19 at most; never raises it, so a service started at a high nice stays
+// below it. Best effort: a refusal leaves the thread as it was. Threads created afterwards
+// inherit it, so call it after the thread's OpenCL context exists (PoCL's workers must keep
+// the frames' priority).
+inline void lower_this_thread_priority(int steps) {
+  const auto self = static_cast<id_t>(gettid());
+  errno = 0;
+  const int now = getpriority(PRIO_PROCESS, self);  // -1 is a valid nice value: errno tells
+  if (errno != 0 || steps <= 0) return;
+  (void)setpriority(PRIO_PROCESS, self, std::min(19, now + steps));
 }
 
 }  // namespace probeless

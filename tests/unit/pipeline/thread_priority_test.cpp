@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "app/pipeline/thread_name.hpp"
@@ -17,18 +18,30 @@ int own_nice() {
 
 TEST(ThreadPriority, LoweringAThreadLeavesTheOthersAsTheyWere) {
   const int before = own_nice();
-  if (before >= kLightThreadNice) GTEST_SKIP() << "the test runs at nice " << before;
+  if (before >= 19) GTEST_SKIP() << "the test runs at nice 19: nothing lower to go to";
   int lowered = before, inherited = before;
   std::thread light([&] {
-    lower_this_thread_priority(kLightThreadNice);
+    lower_this_thread_priority(kLightThreadNiceSteps);
     lowered = own_nice();
     std::thread child([&] { inherited = own_nice(); });
     child.join();
   });
   light.join();
-  EXPECT_EQ(lowered, kLightThreadNice);
-  EXPECT_EQ(inherited, kLightThreadNice) << "threads it starts later inherit it";
+  EXPECT_EQ(lowered, std::min(19, before + kLightThreadNiceSteps));
+  EXPECT_EQ(inherited, lowered) << "threads it starts later inherit it";
   EXPECT_EQ(own_nice(), before) << "the calling thread keeps its priority";
+}
+
+TEST(ThreadPriority, NeverRaisesIt) {
+  const int before = own_nice();
+  int after = before;
+  std::thread t([&] {
+    lower_this_thread_priority(0);
+    lower_this_thread_priority(-5);
+    after = own_nice();
+  });
+  t.join();
+  EXPECT_EQ(after, before);
 }
 
 }  // namespace
