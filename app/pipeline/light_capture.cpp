@@ -193,9 +193,6 @@ bool LightCapture::initialise() {
 void LightCapture::run(std::stop_token stop, StageStats& stats, HeartbeatRegistry& heartbeats) {
   if (!initialise()) return;
   name_this_thread("pl-light");  // after the OpenCL context: see Pipeline::process
-  // The light is not on a frame's path: under load its updates give way to the frames' work
-  // (frame p99 at a 60 Hz sim camera 44-51 -> 35-42 ms, docs/performance.md).
-  lower_this_thread_priority(kLightThreadNiceSteps);
   // Watched from its first light frame on: that one builds the OpenCL programs (seconds on
   // PoCL), and frames before it only wait for the tracker's first pose.
   Heartbeat heartbeat;
