@@ -166,14 +166,14 @@ void enqueue_read(::cl::CommandQueue& q, const DeviceImage<T, C>& device, Image<
 PendingDownload DownloadStage::process(const DeviceImageRGB8& composite,
                                        const DeviceImageF& matte) {
   auto& q = ctx_.queue();
-  // Fresh images per frame: the outputs hold them through shared_ptr while the next frame
-  // is processed (two 640x480 allocations per frame, measured negligible next to the work),
-  // and the device writes into them while the next frame is rendered.
+  // Images no output holds any more (image_pool.hpp): the outputs keep theirs through
+  // shared_ptr while the next frames are processed, and the device writes into these while the
+  // next frame is rendered.
   PendingDownload out;
-  out.images.composite = std::make_shared<ImageRGB8>(composite.width(), composite.height());
+  out.images.composite = composites_.take(composite.width(), composite.height());
   enqueue_read(q, composite, *out.images.composite);
   if (want_matte_) {
-    out.images.matte = std::make_shared<ImageF>(matte.width(), matte.height());
+    out.images.matte = mattes_.take(matte.width(), matte.height());
     enqueue_read(q, matte, *out.images.matte);
   }
   // One event for the whole frame: the queue is in order, so the marker completes after every

@@ -23,6 +23,7 @@
 #include <variant>
 #include <vector>
 
+#include "app/pipeline/image_pool.hpp"
 #include "app/pipeline/light_capture.hpp"
 #include "app/render/renderer.hpp"
 #include "core/beyond_range.hpp"
@@ -214,6 +215,10 @@ class CompositeStage {
 class DownloadStage {
  public:
   DownloadStage(ComputeContext& ctx, bool want_matte) : ctx_(ctx), want_matte_(want_matte) {}
+  // Images handed out and not yet let go by every output are never written again; the pools
+  // keep up to kPooledImages each (two frames on the way, the output slot, the encoders' and
+  // the last good frame's, with room to spare) and allocate beyond that.
+  static constexpr std::size_t kPooledImages = 8;
   static constexpr const char* name = "download";
   PendingDownload process(const DeviceImageRGB8& composite, const DeviceImageF& matte);
   // Until `pending.done`; its images are then complete.
@@ -222,6 +227,8 @@ class DownloadStage {
  private:
   ComputeContext& ctx_;
   bool want_matte_;
+  ImagePool<std::uint8_t, 3> composites_{kPooledImages};
+  ImagePool<float, 1> mattes_{kPooledImages};
 };
 
 }  // namespace probeless
