@@ -210,8 +210,8 @@ class CompositeStage {
 };
 
 // Device -> host: the end of the device work of the frame. process() enqueues the reads into
-// fresh host images without waiting and flushes, so the device starts on the frame while the
-// host goes on (FrameProcessor::submit); wait() is the wait, timed as this stage.
+// host images no output holds (ImagePool) without waiting and flushes, so the device starts on the
+// frame while the host goes on (FrameProcessor::submit); wait() is the wait, timed as this stage.
 class DownloadStage {
  public:
   DownloadStage(ComputeContext& ctx, bool want_matte) : ctx_(ctx), want_matte_(want_matte) {}
