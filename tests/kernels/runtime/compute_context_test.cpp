@@ -234,3 +234,50 @@ TEST(RoundUp, ToTheLocalSize) {
 
 }  // namespace
 }  // namespace probeless
+
+namespace probeless {
+namespace {
+
+// run_2d over a rectangle: the work-items' ids are the pixels' own coordinates (a global
+// offset), every pixel of the rectangle is visited, and the rounding up to the local size
+// reaches at most a local size's width and height past it.
+TEST(ComputeContext, Run2dOverARectangleVisitsItsPixelsByTheirCoordinates) {
+  auto& ctx = testing::cl_context();
+  const int w = 53, h = 37;
+  ::cl::Kernel mark = ctx.kernel("mark_pixels", R"(
+__kernel void mark_pixels(__global int* v, int w, int h) {
+  const int x = get_global_id(0), y = get_global_id(1);
+  if (x < w && y < h) v[y * w + x] = 1 + y * w + x;
+}
+)",
+                                 "", "mark_pixels");
+  const std::size_t lx = ctx.local_2d()[0], ly = ctx.local_2d()[1];
+  for (const PixelRect& r :
+       {PixelRect{7, 5, 30, 21}, PixelRect{0, 0, w, h}, PixelRect{52, 36, 53, 37}, PixelRect{}}) {
+    std::vector<int> host(static_cast<std::size_t>(w * h), 0);
+    ::cl::Buffer buf(ctx.context(), CL_MEM_READ_WRITE | CL_MEM_COPY_HOST_PTR,
+                     sizeof(int) * host.size(), host.data());
+    mark.setArg(0, buf);
+    mark.setArg(1, w);
+    mark.setArg(2, h);
+    ctx.run_2d(mark, r);
+    ctx.queue().enqueueReadBuffer(buf, CL_TRUE, 0, sizeof(int) * host.size(), host.data());
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int v = host[static_cast<std::size_t>(y * w + x)];
+        const bool reachable = x >= r.x0 && y >= r.y0 &&
+                               x < r.x0 + static_cast<int>((r.width() + lx - 1) / lx * lx) &&
+                               y < r.y0 + static_cast<int>((r.height() + ly - 1) / ly * ly);
+        if (r.contains(x, y)) {
+          ASSERT_EQ(v, 1 + y * w + x) << x << "," << y;
+        } else if (!reachable || r.empty()) {
+          ASSERT_EQ(v, 0) << x << "," << y << " outside the rectangle's launch";
+        } else {
+          ASSERT_TRUE(v == 0 || v == 1 + y * w + x) << x << "," << y;
+        }
+      }
+  }
+}
+
+}  // namespace
+}  // namespace probeless
