@@ -101,8 +101,14 @@ inline vf stabilise16(int x0, int y, int width, int height, vf a, vf v, vi on, v
   const vf range = select((vf)(m->colour_range), (vf)(UNCONFIRMED_RANGE), has_d ^ (dp > 0.0f));
   const vf c = (dr * dr + dg * dg + db * db) / (range * range);
   ok &= (c < 1.0f);
-  const vf h = m->history_weight * (1.0f - c);
+  // Heavier where depth confirms the surface in both frames; on a near occluder the history
+  // may only hide more (matte_stabiliser_params.hpp says why and what was measured).
+  const vi confirmed = has_d & ~marked & (dp > 0.0f);
+  const vf weight = select(select((vf)(m->history_weight), (vf)(CONFIRMED_WEIGHT), confirmed),
+                           (vf)(NEAR_WEIGHT), marked);
+  const vf h = weight * (1.0f - c);
   vf out = (1.0f - h) * a + h * (sa / sw);
+  out = select(out, fmin(out, a), marked);
   out = select(out, (vf)(0.0f), out < m->snap);
   out = select(out, (vf)(1.0f), out > 1.0f - m->snap);
   return select(a, out, ok);

@@ -35,11 +35,16 @@ MatteStabiliser::MatteStabiliser(ComputeContext& ctx, StabiliserParams params)
     : ctx_(ctx),
       params_(params),
       kernel_(ctx.kernel("matte_stabiliser", stabiliser_source(),
-                         fmt::format("-DUNCONFIRMED_RANGE={:a}f -DNEAR_MM={}",
-                                     double(params.unconfirmed_colour_range), kNearHoleDepthMm),
+                         fmt::format("-DUNCONFIRMED_RANGE={:a}f -DNEAR_MM={} "
+                                     "-DCONFIRMED_WEIGHT={:a}f -DNEAR_WEIGHT={:a}f",
+                                     double(params.unconfirmed_colour_range), kNearHoleDepthMm,
+                                     double(params.confirmed_history_weight),
+                                     double(params.near_occluder_history_weight)),
                          "stabilise_matte")) {
-  if (!(params.history_weight >= 0.f && params.history_weight < 1.f))
-    throw std::invalid_argument("matte stabiliser: history_weight must lie in [0, 1)");
+  for (const float weight : {params.history_weight, params.confirmed_history_weight,
+                             params.near_occluder_history_weight})
+    if (!(weight >= 0.f && weight < 1.f))
+      throw std::invalid_argument("matte stabiliser: history weights must lie in [0, 1)");
   if (!(params.colour_range > 0.f && params.unconfirmed_colour_range > 0.f))
     throw std::invalid_argument("matte stabiliser: colour ranges must be > 0");
   if (!(params.depth_tolerance_mm >= 0.f && params.depth_tolerance_rel >= 0.f))

@@ -80,8 +80,14 @@ ImageF stabilise_matte_reference(const ImageF& alpha, const StabiliserFrame& cur
       const float range = (d > 0) != (dp > 0) ? p.unconfirmed_colour_range : p.colour_range;
       const float q = dist / (range * range);
       if (!(q < 1.0f)) continue;
-      const float h = p.history_weight * (1.0f - q);
+      const bool confirmed = d > 0 && dp > 0 && !marked;
+      const float weight = marked      ? p.near_occluder_history_weight
+                           : confirmed ? p.confirmed_history_weight
+                                       : p.history_weight;
+      const float h = weight * (1.0f - q);
       float blended = (1.0f - h) * a + h * (sa / sw);
+      // A near occluder hides the object wherever it is: its history may hide more, never less.
+      if (marked) blended = std::min(blended, a);
       if (blended < p.snap) blended = 0.0f;
       if (blended > 1.0f - p.snap) blended = 1.0f;
       out.at(x, y) = blended;
