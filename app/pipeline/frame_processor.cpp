@@ -59,8 +59,7 @@ FrameProcessor::FrameProcessor(const ServiceConfig& config, const RigCalibration
       composite_(*ctx_),
       download_(*ctx_, keep_matte),
       localiser_(config.tracking, config.world, calibration, ctx_.get()),
-      poses_(std::move(poses)),
-      tracking_apart_(config.tracking.device != "opencl") {}
+      poses_(std::move(poses)) {}
 
 // Never a virtual object at a pose that may be wrong (issue #17): the camera's picture, a
 // transparent matte, and a banner naming what is missing.
@@ -162,7 +161,8 @@ FrameProcessor::InFlight FrameProcessor::submit(const RgbdFrame& frame, const Lo
     f.out_ = camera_only(frame, located.status);  // no device work: finish() just returns it
     return f;
   }
-  const auto idle = std::find(std::begin(slot_busy_), std::end(slot_busy_), false);
+  const auto idle = std::find_if(std::begin(slot_busy_), std::end(slot_busy_),
+                                 [](const std::atomic<bool>& b) { return !b.load(); });
   if (idle == std::end(slot_busy_))
     throw std::logic_error("FrameProcessor::submit: finish a frame first (two in flight)");
   const int slot = static_cast<int>(idle - std::begin(slot_busy_));

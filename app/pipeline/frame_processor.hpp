@@ -2,13 +2,14 @@
 // The processing thread's work for one RGB-D frame: the stages of frame_stages.hpp composed
 // from config, each one's result the next one's input, each timed into StageStats. Owns the
 // OpenCL context and the EGL renderer, so it must be created, used and destroyed on one
-// thread; only locate() may run on another (one call at a time) when tracking_apart() says
-// so: the processing loop tracks the next frame there while this one is composed.
+// thread; only finish() may run on another (the finisher, frame_finisher.hpp), one call at a
+// time, beside that thread's locate() and submit() of the next frame.
 //
-// compose() is submit() then finish(). Apart, they let the host render frame N+1 while the
-// OpenCL device works on frame N (issue #19): on PoCL + llvmpipe the render (~13 ms with the
-// HDR layer) and the device's matte + composite (~10 ms waited for in the download) ran one
-// after the other, bounding the bench at ~35 fps with 1.65 of the 2 cores busy.
+// compose() is locate(), submit() then finish(). Apart, they let the host render frame N+1
+// while the OpenCL device works on frame N (issue #19): on PoCL + llvmpipe the render (~13 ms
+// with the HDR layer) and the device's matte + composite (~10 ms waited for in the download)
+// ran one after the other, bounding the bench at ~35 fps with 1.65 of the 2 cores busy.
+#include <atomic>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -86,9 +87,6 @@ class FrameProcessor {
   // to here) and returns its composite. Waits on the frame's own event, not the queue, as the
   // next frame's commands may be queued behind it.
   CompositeFrame finish(InFlight in_flight, StageStats& stats);
-  // Whether locate() may run on another thread beside compose(): the tracker does not use
-  // this thread's OpenCL context (`[tracking] device = "cpu"`, the default, or no tracker).
-  bool tracking_apart() const { return tracking_apart_; }
   // Where the rig is, as of the last frame located (/status "tracking").
   const world::LocaliserStatus& tracking() const { return localiser_.status(); }
 
@@ -108,8 +106,8 @@ class FrameProcessor {
   DownloadStage download_;
   world::RigLocaliser localiser_;
   std::shared_ptr<PoseHistory> poses_;
-  bool tracking_apart_;
-  bool slot_busy_[kFrameSlots] = {};  // by a submitted frame not yet finished
+  // By a submitted frame not yet finished; freed by finish() on the finisher thread.
+  std::atomic<bool> slot_busy_[kFrameSlots] = {};
 
   // The camera image alone with a small banner: what is shown while the pose is unknown.
   CompositeFrame camera_only(const RgbdFrame& frame, const world::LocaliserStatus& s) const;

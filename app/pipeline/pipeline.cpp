@@ -6,12 +6,12 @@
 
 #include "app/outputs/banner.hpp"
 #include "app/outputs/jpeg_encoder.hpp"
+#include "app/pipeline/frame_finisher.hpp"
 #include "app/pipeline/frame_processor.hpp"
 #include "app/pipeline/light_capture.hpp"
 #include "app/pipeline/output_factory.hpp"
 #include "app/pipeline/scene_objects.hpp"
 #include "app/pipeline/thread_name.hpp"
-#include "app/pipeline/tracking_worker.hpp"
 #include "drivers/trigger/gpio_strobe.hpp"
 #include "drivers/trigger/gpio_trigger.hpp"
 
@@ -298,103 +298,71 @@ void Pipeline::process(std::stop_token stop) {
   }
 }
 
+bool Pipeline::publish(CompositeFrame out, const world::LocaliserStatus& status,
+                       std::stop_token stop) {
+  {
+    nlohmann::json tracking = status.to_json();
+    std::lock_guard lock(state_mutex_);
+    tracking_ = std::move(tracking);
+  }
+  {
+    std::lock_guard lock(last_good_mutex_);
+    last_good_ = out;
+  }
+  if (options_.lossless)
+    while (output_taken_.load() < output_published_.load() && !stop.stop_requested())
+      std::this_thread::sleep_for(1ms);
+  output_published_ = output_.publish(std::move(out));
+  fps_.tick(monotonic_now_ns());
+  const auto n = ++processed_;
+  if (options_.hang_after_frames >= 0 &&
+      static_cast<std::int64_t>(n) >= options_.hang_after_frames) {
+    // The processing thread then waits for room that never comes, and its heartbeat goes
+    // stale: what a frame stuck in a driver or OpenCL call does.
+    spdlog::warn("fault injection: the processing loop hangs after {} frames", n);
+    while (!stop.stop_requested()) std::this_thread::sleep_for(50ms);
+    return false;
+  }
+  if (config_.max_frames > 0 && static_cast<std::int64_t>(n) >= config_.max_frames) {
+    finish();
+    return false;
+  }
+  return true;
+}
+
 void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
   LatestFrame<RgbdFrame>::Sequence seen = 0;
   auto last_banner = std::chrono::steady_clock::now() - 1h;
   // Watched from the first frame out: FrameProcessor's construction and first frame build
   // the OpenCL programs (seconds each on PoCL, longer on a loaded board than WatchdogSec).
   Heartbeat heartbeat;
-
-  // Frame N+1 is tracked on the worker while frame N is composed here (tracking_worker.hpp):
-  // `tracked` is a frame located and not yet submitted, `next` the one the worker locates.
-  struct Tracked {
-    RgbdFrame frame;
-    FrameProcessor::Located located;
-  };
-  // A frame submitted to the device and not yet finished (FrameProcessor::submit): the host
-  // renders the next frame while the device works on it. `work` after `frame`: destroyed
-  // first, it waits for the device, which reads the frame's images until then.
-  struct Submitted {
-    RgbdFrame frame;
-    world::LocaliserStatus status;
-    FrameProcessor::InFlight work;
-  };
-  // Oldest first; at most one between turns of the loop, two during a submit. A deque, so
-  // that a frame's address does not change while the device reads it.
-  std::deque<Submitted> in_flight;
-  std::optional<Tracked> tracked, next;
-  std::optional<TrackingWorker> worker;  // after `next`: joined before it is destroyed
-  if (processor.tracking_apart()) worker.emplace();
-
-  // Publishes one frame's composite. Returns false when the loop ends (max_frames, fault
-  // injection).
-  const auto publish = [&](CompositeFrame out, const world::LocaliserStatus& status) {
-    {
-      nlohmann::json tracking = status.to_json();
-      std::lock_guard lock(state_mutex_);
-      tracking_ = std::move(tracking);
-    }
-    last_good_ = out;
-    if (options_.lossless)
-      while (output_taken_.load() < output_published_ && !stop.stop_requested())
-        std::this_thread::sleep_for(1ms);
-    output_published_ = output_.publish(std::move(out));
-    fps_.tick(monotonic_now_ns());
-    const auto n = ++processed_;
-    if (n == 1) heartbeat = heartbeats_.add("processing");
-    if (options_.hang_after_frames >= 0 &&
-        static_cast<std::int64_t>(n) >= options_.hang_after_frames) {
-      spdlog::warn("fault injection: the processing loop hangs after {} frames", n);
-      while (!stop.stop_requested()) std::this_thread::sleep_for(50ms);
-      return false;
-    }
-    if (config_.max_frames > 0 && static_cast<std::int64_t>(n) >= config_.max_frames) {
-      finish();
-      return false;
-    }
-    return true;
-  };
-  // Waits for the oldest frame in flight and publishes it.
-  const auto finish_oldest = [&] {
-    Submitted& s = in_flight.front();
-    CompositeFrame out = processor.finish(std::move(s.work), stats_);
-    const world::LocaliserStatus status = std::move(s.status);
-    in_flight.pop_front();
-    return publish(std::move(out), status);
-  };
-  // Submits a located frame, then finishes the one before it: the device works on this one
-  // while the caller goes on to the next frame's tracking and render.
-  const auto submit = [&](Tracked& t) {
-    Submitted& s = in_flight.emplace_back(Submitted{std::move(t.frame), t.located.status, {}});
-    s.work = processor.submit(s.frame, t.located, stats_);
-    return in_flight.size() < 2 || finish_oldest();
-  };
+  // Publishes each frame as soon as the device has finished it (frame_finisher.hpp), while
+  // this thread locates and renders the next: at most kFrameSlots frames on the way. Declared
+  // after `processor` is made and destroyed before it: its frames wait for the device.
+  FrameFinisher finisher(
+      processor, stats_,
+      [this](CompositeFrame out, const world::LocaliserStatus& status, std::stop_token s) {
+        return publish(std::move(out), status, s);
+      },
+      [this](const std::string& what) { fail(what); });
 
   while (!stop.stop_requested()) {
     const auto now = std::chrono::steady_clock::now();
     heartbeat.beat();  // at least every 50 ms (take_newer's timeout) while the loop turns
-    // With a frame tracked or in flight, only a frame already there is taken (to overlap
-    // with it): a frame that could go out now is not held back for a frame still to come.
-    const bool busy = tracked || !in_flight.empty();
-    auto item = rgbd_slot_.take_newer(seen, busy ? 0ms : 50ms);
+    if (!heartbeat && processed_.load() > 0) heartbeat = heartbeats_.add("processing");
+    auto item = rgbd_slot_.take_newer(seen, 50ms);
     if (!item) {
-      bool go_on = true;
-      if (tracked) {
-        go_on = submit(*tracked);
-        tracked.reset();
-      } else if (!in_flight.empty()) {
-        go_on = finish_oldest();
+      if (rgbd_ended_) {
+        finisher.drain(stop);  // the stream's last frames go out before the pipeline ends
+        return finish();
       }
-      if (!go_on) return;
-      if (busy) continue;
-      if (rgbd_ended_) return finish();
       const auto silent_ns = monotonic_now_ns() - last_rgbd_ns_.load();
       if (silent_ns > config_.no_signal_after_ms * 1'000'000LL) {
         if (!no_signal_.exchange(true))
           spdlog::warn("{}: no signal for {} ms: serving the last frame marked NO SIGNAL",
                        rig_.rgbd->name(), silent_ns / 1'000'000);
-        if (now - last_banner > 200ms) {  // 5 Hz keeps viewers' streams alive
-          publish_no_signal(to_string(rig_.rgbd->state()));
+        if (now - last_banner > 200ms && finisher.on_the_way() == 0) {  // 5 Hz keeps viewers'
+          publish_no_signal(to_string(rig_.rgbd->state()));             // streams alive
           last_banner = now;
         }
       }
@@ -404,34 +372,29 @@ void Pipeline::process_loop(std::stop_token stop, FrameProcessor& processor) {
     if (options_.lossless) rgbd_credit_.release();
     if (no_signal_.exchange(false)) spdlog::info("{}: signal back", rig_.rgbd->name());
 
-    next.emplace(Tracked{std::move(item->value), {}});
-    if (!worker) {
-      next->located = processor.locate(next->frame, stats_);
-      const bool go_on = submit(*next);
-      next.reset();
-      if (!go_on) return;
-      continue;
-    }
-    worker->submit([&] { next->located = processor.locate(next->frame, stats_); });
-    bool go_on = true;
-    try {
-      if (tracked) go_on = submit(*tracked);
-    } catch (...) {
-      worker->wait();  // `next` outlives the job; `in_flight` waits for the device itself
-      throw;
-    }
-    worker->wait();
-    tracked = std::move(next);
-    next.reset();
-    if (!go_on) return;
+    // On the heap and never moved: the device reads the frame's images until it is finished.
+    auto submitted = std::make_unique<FrameFinisher::Submitted>();
+    submitted->frame = std::move(item->value);
+    const FrameProcessor::Located located = processor.locate(submitted->frame, stats_);
+    submitted->status = located.status;
+    // Located first, then the wait for room: the tracking overlaps the device's work on the
+    // frames before (waiting first cost 10-15 % of the frame rate, docs/performance.md).
+    if (!finisher.wait_for_room(stop)) return;
+    submitted->work = processor.submit(submitted->frame, located, stats_);
+    finisher.push(std::move(submitted));
   }
 }
 
 void Pipeline::publish_no_signal(const std::string& state) {
   CompositeFrame f;
-  if (last_good_) {
-    f = *last_good_;
-    auto colour = std::make_shared<ImageRGB8>(*last_good_->colour);
+  std::optional<CompositeFrame> last_good;
+  {
+    std::lock_guard lock(last_good_mutex_);
+    last_good = last_good_;
+  }
+  if (last_good) {
+    f = *last_good;
+    auto colour = std::make_shared<ImageRGB8>(*last_good->colour);
     draw_no_signal(*colour, rig_.rgbd->name(), state);
     f.colour = std::move(colour);
   } else {  // nothing good yet: a black frame of the camera's size says it all the same

@@ -32,6 +32,9 @@ namespace probeless {
 
 class LightCapture;
 class GpioStrobe;
+namespace world {
+struct LocaliserStatus;
+}
 
 // What the processing thread publishes per frame.
 struct CompositeFrame {
@@ -104,6 +107,9 @@ class Pipeline {
   void stamp_fisheye_frame(FisheyeFrame& frame);
   void process(std::stop_token stop);
   void process_loop(std::stop_token stop, class FrameProcessor& processor);
+  // One finished frame to the outputs, on the finisher thread (frame_finisher.hpp); false
+  // when no more are wanted (max_frames, fault injection).
+  bool publish(CompositeFrame out, const world::LocaliserStatus& status, std::stop_token stop);
   void open_outputs();  // from config and options, in start()
   void output_loop(std::stop_token stop);
   std::string url_of(std::string_view output) const;
@@ -143,8 +149,11 @@ class Pipeline {
   LatestFrame<CompositeFrame> output_;
   // Lossless mode: the processing thread publishes a composite only once the output thread
   // has taken the last one, so every processed frame reaches the outputs (tests, benches).
-  LatestFrame<CompositeFrame>::Sequence output_published_ = 0;  // processing thread only
+  // Written by the finisher thread per frame and by the processing thread's NO SIGNAL
+  // repeats, never both at once (the repeats wait for an empty finisher).
+  std::atomic<LatestFrame<CompositeFrame>::Sequence> output_published_{0};
   std::atomic<LatestFrame<CompositeFrame>::Sequence> output_taken_{0};
+  std::mutex last_good_mutex_;  // the finisher writes it, the NO SIGNAL repeats read it
   std::optional<CompositeFrame> last_good_;
   std::atomic<bool> no_signal_{false};
   std::atomic<std::uint64_t> processed_{0};

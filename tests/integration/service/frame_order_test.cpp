@@ -1,4 +1,5 @@
-// The processing loop with frame N+1 rendered while frame N is on the device (issue #19):
+// The processing loop with frame N+1 rendered while frame N is on the device and finished on
+// the finisher's thread (issue #19):
 // one output per input, in order, each with its own pose, the last frame of a finite stream
 // included, camera-only frames (pose unknown) in their place between frames with device
 // work; and an error with frames in flight ends the pipeline cleanly.
@@ -58,8 +59,8 @@ ServiceConfig truth_config(const std::string& device) {
   ServiceConfig config;
   config.source = "sim:realtime=0,trajectory=orbit,frames=" + std::to_string(kFrames);
   config.tracking.method = "truth";
-  // "cpu": tracking on the worker thread beside the frame path; "opencl": on the processing
-  // thread between frames (FrameProcessor::tracking_apart()): both loops are covered.
+  // "cpu": the tracker beside the device's work on the frames before; "opencl": its commands
+  // on the frame path's queue, behind theirs: both orders are covered.
   config.tracking.device = device;
   config.light_enabled = false;
   config.no_signal_after_ms = 60'000;  // no NO SIGNAL repeats between slow sim frames
