@@ -95,28 +95,37 @@ void expect_same(const CompositeFrame& got, const CompositeFrame& want, std::siz
   EXPECT_TRUE(std::ranges::equal(got.alpha->elements(), want.alpha->elements()));
 }
 
-TEST(FrameFinisher, AFrameIsPublishedWithoutWaitingForTheNextOne) {
+// The frames composed alone, what the finisher publishes, and a finisher over them.
+class FrameFinisherTest : public ::testing::Test {
+ protected:
+  FrameFinisher make(int capacity = kFrameSlots) {
+    return FrameFinisher(c.p, c.stats, out.publish(), out.fail(), capacity);
+  }
+  void push(FrameFinisher& finisher, int k) {
+    finisher.push(submitted(c.p, c.f.frames[static_cast<std::size_t>(k)], c.stats));
+  }
   Composed c;
   Published out;
-  FrameFinisher finisher(c.p, c.stats, out.publish(), out.fail());
+};
+
+TEST_F(FrameFinisherTest, AFrameIsPublishedWithoutWaitingForTheNextOne) {
+  FrameFinisher finisher = make();
   // The old loop finished frame N only after submitting N+1: here nothing more is submitted.
-  finisher.push(submitted(c.p, c.f.frames[0], c.stats));
+  push(finisher, 0);
   ASSERT_TRUE(out.wait_for(1)) << "frame 0 never came out on its own";
   expect_same(out.frames[0], c.want[0], 0);
   EXPECT_TRUE(finisher.drain(std::stop_token{}));
   EXPECT_EQ(finisher.on_the_way(), 0);
 }
 
-TEST(FrameFinisher, FramesComeOutInOrderAsComposedAloneAndTheThirdWaitsForRoom) {
-  Composed c;
-  Published out;
-  FrameFinisher finisher(c.p, c.stats, out.publish(), out.fail(), /*capacity=*/2);
+TEST_F(FrameFinisherTest, FramesComeOutInOrderAsComposedAloneAndTheThirdWaitsForRoom) {
+  FrameFinisher finisher = make(2);
   QueueGate gate(c.p.compute());
-  finisher.push(submitted(c.p, c.f.frames[0], c.stats));
+  push(finisher, 0);
   ASSERT_TRUE(finisher.wait_for_room(std::stop_token{}));
-  finisher.push(submitted(c.p, c.f.frames[1], c.stats));
+  push(finisher, 1);
   EXPECT_EQ(finisher.on_the_way(), 2);
-  EXPECT_THROW(finisher.push(submitted(c.p, c.f.frames[2], c.stats)), std::logic_error);
+  EXPECT_THROW(push(finisher, 2), std::logic_error);
   // The caller's wait for room lasts while the device holds both frames, and ends with the
   // first one out.
   auto room = std::async(std::launch::async, [&] { return finisher.wait_for_room({}); });
@@ -126,7 +135,7 @@ TEST(FrameFinisher, FramesComeOutInOrderAsComposedAloneAndTheThirdWaitsForRoom) 
   EXPECT_TRUE(room.get());
   for (std::size_t k = 2; k < static_cast<std::size_t>(kFrames); ++k) {
     ASSERT_TRUE(finisher.wait_for_room(std::stop_token{}));
-    finisher.push(submitted(c.p, c.f.frames[k], c.stats));
+    push(finisher, static_cast<int>(k));
   }
   ASSERT_TRUE(finisher.drain(std::stop_token{}));
   ASSERT_EQ(out.frames.size(), c.want.size());
@@ -134,26 +143,22 @@ TEST(FrameFinisher, FramesComeOutInOrderAsComposedAloneAndTheThirdWaitsForRoom) 
   EXPECT_TRUE(out.errors.empty());
 }
 
-TEST(FrameFinisher, APublishThatSaysStopEndsItAndTheRestIsNotPublished) {
-  Composed c;
-  Published out;
+TEST_F(FrameFinisherTest, APublishThatSaysStopEndsItAndTheRestIsNotPublished) {
   out.stop_after = 1;
-  FrameFinisher finisher(c.p, c.stats, out.publish(), out.fail(), /*capacity=*/2);
+  FrameFinisher finisher = make(2);
   QueueGate gate(c.p.compute());
-  finisher.push(submitted(c.p, c.f.frames[0], c.stats));
-  finisher.push(submitted(c.p, c.f.frames[1], c.stats));
+  push(finisher, 0);
+  push(finisher, 1);
   gate.release();
   EXPECT_FALSE(finisher.drain(std::stop_token{})) << "a stopped finisher drains nothing more";
   EXPECT_FALSE(finisher.wait_for_room(std::stop_token{}));
   EXPECT_EQ(out.count(), 1U);
 }  // the unpublished frame is dropped: it waits for its device work, then goes
 
-TEST(FrameFinisher, AStopRequestEndsTheWaitForRoom) {
-  Composed c;
-  Published out;
-  FrameFinisher finisher(c.p, c.stats, out.publish(), out.fail(), /*capacity=*/1);
+TEST_F(FrameFinisherTest, AStopRequestEndsTheWaitForRoom) {
+  FrameFinisher finisher = make(1);
   QueueGate gate(c.p.compute());
-  finisher.push(submitted(c.p, c.f.frames[0], c.stats));
+  push(finisher, 0);
   std::stop_source stop;
   auto room =
       std::async(std::launch::async, [&] { return finisher.wait_for_room(stop.get_token()); });
@@ -164,10 +169,8 @@ TEST(FrameFinisher, AStopRequestEndsTheWaitForRoom) {
   EXPECT_TRUE(out.wait_for(1));
 }
 
-TEST(FrameFinisher, ACapacityBelowOneIsRefused) {
-  Composed c;
-  Published out;
-  EXPECT_THROW(FrameFinisher(c.p, c.stats, out.publish(), out.fail(), 0), std::invalid_argument);
+TEST_F(FrameFinisherTest, ACapacityBelowOneIsRefused) {
+  EXPECT_THROW(make(0), std::invalid_argument);
 }
 
 }  // namespace
