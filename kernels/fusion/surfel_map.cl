@@ -3,6 +3,8 @@
 // operation, so that the device takes the reference's decisions (contraction into fma off; the
 // radial weights and the 8-bit linearisation come from the host's std:: functions as tables).
 //
+// The host prepends common/vector16.cl (vf, vi, LOADF, STOREF, lanes()).
+//
 // Surfels are a structure of arrays: FLOAT_PLANES float planes of `cap` entries (position,
 // normal, radius, confidence, radiance), two long planes (created, last seen) and a byte of
 // flags. Each pass over surfels reads a few planes only (the index map's projection reads
@@ -55,21 +57,26 @@ typedef struct {
   int width, height, saturated_level, black_level;
 } Frame;
 
-// R v + t with the reference's (Eigen's) order of additions.
-inline float3 transform(const float* r, const float* t, float3 v) {
-  return (float3)(((r[0] * v.x + r[1] * v.y) + r[2] * v.z) + t[0],
-                  ((r[3] * v.x + r[4] * v.y) + r[5] * v.z) + t[1],
-                  ((r[6] * v.x + r[7] * v.y) + r[8] * v.z) + t[2]);
+// R v + t with the reference's (Eigen's) order of additions. Scalars only, no float3: PoCL
+// leaves a work-item loop with vector-typed values scalar (docs/opencl.md "What PoCL
+// vectorises"); with float3 the candidate mask took 1.0 ms a frame on the sim's region.
+inline void transform(const float* r, const float* t, float x, float y, float z, float* o) {
+  o[0] = ((r[0] * x + r[1] * y) + r[2] * z) + t[0];
+  o[1] = ((r[3] * x + r[4] * y) + r[5] * z) + t[1];
+  o[2] = ((r[6] * x + r[7] * y) + r[8] * z) + t[2];
 }
-inline float3 rotate(const float* r, float3 v) {
-  return (float3)((r[0] * v.x + r[1] * v.y) + r[2] * v.z, (r[3] * v.x + r[4] * v.y) + r[5] * v.z,
-                  (r[6] * v.x + r[7] * v.y) + r[8] * v.z);
+inline void rotate(const float* r, float x, float y, float z, float* o) {
+  o[0] = (r[0] * x + r[1] * y) + r[2] * z;
+  o[1] = (r[3] * x + r[4] * y) + r[5] * z;
+  o[2] = (r[6] * x + r[7] * y) + r[8] * z;
 }
-inline float dot3(float3 a, float3 b) {
-  return (a.x * b.x + a.y * b.y) + a.z * b.z;
+inline float dot3(const float* a, const float* b) {
+  return (a[0] * b[0] + a[1] * b[1]) + a[2] * b[2];
 }
-inline float3 ray(const Frame* f, float x, float y, float z) {
-  return (float3)((x - f->cx) * z / f->fx, (y - f->cy) * z / f->fy, z);
+inline void ray(const Frame* f, float x, float y, float z, float* o) {
+  o[0] = (x - f->cx) * z / f->fx;
+  o[1] = (y - f->cy) * z / f->fy;
+  o[2] = z;
 }
 inline float metres(__global const ushort* depth, int i) {
   return (float)depth[i] * 0.001f;
@@ -77,7 +84,8 @@ inline float metres(__global const ushort* depth, int i) {
 
 // The index map's cells are cleared where last frame's projection wrote them (`cells`), so a
 // frame costs the surfels, not the INDEX_SCALE^2 larger map.
-__kernel void clear_index_map(__global ulong* index_map, __global const uint* cells, int n) {
+__kernel void clear_index_map(__global ulong* restrict index_map,
+                              __global const uint* restrict cells, int n) {
   const int i = get_global_id(0);
   if (i >= n) return;
   const uint c = cells[i];
@@ -89,105 +97,127 @@ __kernel void clear_index_map(__global ulong* index_map, __global const uint* ce
 // (depth bits << 32 | index), the depth positive so its bits order as the floats do. A surfel
 // in front of the nearest depth in the 3 x 3 pixels around it by more than the margin is
 // marked for removal (6.2.6) and not entered.
-__kernel void project_surfels(__global const float* F, int cap, int n, __global const ushort* depth,
-                              const Frame frame, __global ulong* index_map, __global uint* cells,
-                              __global uchar* violated) {
+__kernel void project_surfels(__global const float* restrict F, int cap, int n,
+                              __global const ushort* restrict depth, const Frame frame,
+                              __global ulong* restrict index_map, __global uint* restrict cells,
+                              __global uchar* restrict violated) {
   const int i = get_global_id(0);
   if (i >= n) return;
   const Frame* f = &frame;
-  cells[i] = NO_CELL;
-  violated[i] = 0;
-  const float3 pc =
-      transform(f->r_cw, f->t_cw, (float3)(F[P_X * cap + i], F[P_Y * cap + i], F[P_Z * cap + i]));
-  if (pc.z <= 0) return;
-  const float u = f->fx * pc.x / pc.z + f->cx, v = f->fy * pc.y / pc.z + f->cy;
+  float pc[3];
+  transform(f->r_cw, f->t_cw, F[P_X * cap + i], F[P_Y * cap + i], F[P_Z * cap + i], pc);
+  uint cell = NO_CELL;
+  uchar bad = 0;
+  const float u = f->fx * pc[0] / pc[2] + f->cx, v = f->fy * pc[1] / pc[2] + f->cy;
   const float cu = floor((u + 0.5f) * (float)INDEX_SCALE);
   const float cv = floor((v + 0.5f) * (float)INDEX_SCALE);
   const int iw = f->width * INDEX_SCALE, ih = f->height * INDEX_SCALE;
-  if (cu < 0 || cv < 0 || cu >= (float)iw || cv >= (float)ih) return;
-  const int ix = (int)cu, iy = (int)cv;
-  const int px = ix / INDEX_SCALE, py = iy / INDEX_SCALE;
-  if (depth[py * f->width + px] != 0) {
-    float nearest = 0;
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const int qx = px + dx, qy = py + dy;
-        if (qx < 0 || qy < 0 || qx >= f->width || qy >= f->height) continue;
-        const float z = metres(depth, qy * f->width + qx);
-        if (z > 0 && (nearest == 0 || z < nearest)) nearest = z;
-      }
-    if (pc.z < nearest - f->violation_margin) {
-      violated[i] = 1;
-      return;
-    }
-  }
-  const uint cell = (uint)iy * (uint)iw + (uint)ix;
-  cells[i] = cell;
-  atom_min(&index_map[cell], ((ulong)as_uint(pc.z) << 32) | (ulong)(uint)i);
-}
-
-// Which pixels of `rect` (the region's projection within the normal stencil's border) are
-// candidates: depth in range and the world point in the region's sphere. Written over
-// `area`, which holds `rect`, 0 outside `rect`, so the smoothing may read it anywhere there.
-__kernel void region_mask(__global const ushort* depth, const Frame frame, int4 rect, int4 area,
-                          __global uchar* mask) {
-  const int x = get_global_id(0), y = get_global_id(1);
-  if (x >= area.z || y >= area.w) return;
-  const Frame* f = &frame;
-  const int i = y * f->width + x;
-  uchar in = 0;
-  if (x >= rect.x && y >= rect.y && x < rect.z && y < rect.w) {
-    const float z = metres(depth, i);
-    if (!(z < f->min_depth || z > f->max_depth)) {
-      const float3 pw = transform(f->r_wc, f->t_wc, ray(f, (float)x, (float)y, z));
-      const float3 d = pw - (float3)(f->region[0], f->region[1], f->region[2]);
-      in = !(dot3(d, d) > f->region_r2);
-    }
-  }
-  mask[i] = in;
-}
-
-inline uchar masked(__global const uchar* mask, int4 area, int width, int x, int y) {
-  return x >= area.x && y >= area.y && x < area.z && y < area.w ? mask[y * width + x] : 0;
-}
-
-// The depth the normals are taken from, where a candidate's stencil needs it: the mean over
-// (2 SMOOTH_R + 1)^2 pixels of the depths on the centre's side of any silhouette, summed in
-// the reference's order; 0 without depth.
-__kernel void smooth_depth(__global const ushort* depth, __global const uchar* mask, int4 area,
-                           int width, int height, float discontinuity, __global float* smoothed) {
-  const int x = get_global_id(0), y = get_global_id(1);
-  if (x >= area.z || y >= area.w) return;
-  if (!(masked(mask, area, width, x, y) | masked(mask, area, width, x - NORMAL_STEP, y) |
-        masked(mask, area, width, x + NORMAL_STEP, y) |
-        masked(mask, area, width, x, y - NORMAL_STEP) |
-        masked(mask, area, width, x, y + NORMAL_STEP)))
-    return;
-  const int i = y * width + x;
-  const float z = metres(depth, i);
-  float out = 0;
-  if (z != 0) {
-    const float jump = discontinuity * z;
-    float sum = 0;
-    int n = 0;
-    for (int dy = max(-SMOOTH_R, -y); dy <= min(SMOOTH_R, height - 1 - y); ++dy)
-      for (int dx = max(-SMOOTH_R, -x); dx <= min(SMOOTH_R, width - 1 - x); ++dx) {
-        const float zn = metres(depth, i + dy * width + dx);
-        if (zn != 0 && fabs(zn - z) <= jump) {
-          sum += zn;
-          ++n;
+  if (pc[2] > 0 && cu >= 0 && cv >= 0 && cu < (float)iw && cv < (float)ih) {
+    const int ix = (int)cu, iy = (int)cv;
+    const int px = ix / INDEX_SCALE, py = iy / INDEX_SCALE;
+    if (depth[py * f->width + px] != 0) {
+      float nearest = 0;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int qx = px + dx, qy = py + dy;
+          if (qx < 0 || qy < 0 || qx >= f->width || qy >= f->height) continue;
+          const float z = metres(depth, qy * f->width + qx);
+          if (z > 0 && (nearest == 0 || z < nearest)) nearest = z;
         }
-      }
-    out = sum / (float)n;
+      bad = pc[2] < nearest - f->violation_margin;
+    }
+    if (!bad) {
+      cell = (uint)iy * (uint)iw + (uint)ix;
+      atom_min(&index_map[cell], ((ulong)as_uint(pc[2]) << 32) | (ulong)(uint)i);
+    }
   }
-  smoothed[i] = out;
+  cells[i] = cell;
+  violated[i] = bad;
+}
+
+// Stores the first `count` lanes of v at p (all 16 when count >= 16: one vector move).
+inline void store_lanes_f(__global float* p, vf v, int count) {
+  if (count >= VW) {
+    STOREF(p, v);
+    return;
+  }
+  float t[VW];
+  vstore16(v, 0, t);
+  for (int k = 0; k < count; ++k) p[k] = t[k];
+}
+
+// Over `outer` (the smoothing's reach around the candidates), 16 pixels of a row a work-item
+// (the row-streaming form of vector16.cl: PoCL did not vectorise the per-pixel form across
+// work-items, 0.8 CPU-ms a frame on the sim's region): the depth in metres into a copy padded
+// by SMOOTH_R zeros on every side, so the smoothing reads its window without bounds tests (a
+// zero is skipped as the reference skips a pixel off the image or without depth); and the
+// candidate mask, a pixel of `rect` with depth in range whose world point lies in the
+// region's sphere (0 elsewhere). Lane for lane the reference's operations.
+__kernel void prepare_depth(__global const ushort* restrict depth, const Frame frame, int4 rect,
+                            int4 outer, int padded_width, __global float* restrict padded,
+                            __global uchar* restrict mask) {
+  const int x0 = outer.x + VW * (int)get_global_id(0), y = outer.y + (int)get_global_id(1);
+  if (x0 >= outer.z || y >= outer.w) return;
+  const Frame* f = &frame;
+  const int i = y * f->width + x0, count = outer.z - x0;
+  vf z;
+  if (count >= VW) {
+    z = convert_float16(LOADU16(depth + i)) * 0.001f;
+  } else {
+    float t[VW];
+    for (int k = 0; k < VW; ++k) t[k] = k < count ? (float)depth[i + k] * 0.001f : 0.0f;
+    z = vload16(0, t);
+  }
+  store_lanes_f(padded + (y + SMOOTH_R) * padded_width + x0 + SMOOTH_R, z, count);
+  const vi xs = x0 + lanes();
+  const vf xf = convert_float16(xs);
+  const vf pcx = (xf - f->cx) * z / f->fx, pcy = ((float)y - f->cy) * z / f->fy;
+  const float* r = f->r_wc;
+  const vf dx = (((r[0] * pcx + r[1] * pcy) + r[2] * z) + f->t_wc[0]) - f->region[0];
+  const vf dy = (((r[3] * pcx + r[4] * pcy) + r[5] * z) + f->t_wc[1]) - f->region[1];
+  const vf dz = (((r[6] * pcx + r[7] * pcy) + r[8] * z) + f->t_wc[2]) - f->region[2];
+  const vi in_rect = (xs >= rect.x) & (xs < rect.z) & (vi)(y >= rect.y && y < rect.w ? -1 : 0);
+  const vi in_range = ~((z < f->min_depth) | (z > f->max_depth));
+  const vi in_region = ~(((dx * dx + dy * dy) + dz * dz) > f->region_r2);
+  const uchar16 m = convert_uchar16(in_rect & in_range & in_region & 1);
+  if (count >= VW) {
+    STOREU8(mask + i, m);
+  } else {
+    uchar t[VW];
+    vstore16(m, 0, t);
+    for (int k = 0; k < count; ++k) mask[i + k] = t[k];
+  }
+}
+
+// Over `area` (the candidates and their normal stencil), 16 pixels a work-item: the depth the
+// normals are taken from, the mean over (2 SMOOTH_R + 1)^2 pixels of the depths on the
+// centre's side of any silhouette, summed in the reference's order (a skipped pixel adds an
+// exact 0); 0 without depth.
+__kernel void smooth_depth(__global const float* restrict padded, int padded_width, int width,
+                           int4 area, float discontinuity, __global float* restrict smoothed) {
+  const int x0 = area.x + VW * (int)get_global_id(0), y = area.y + (int)get_global_id(1);
+  if (x0 >= area.z || y >= area.w) return;
+  const int c = (y + SMOOTH_R) * padded_width + x0 + SMOOTH_R;
+  const vf z = LOADF(padded + c);
+  const vf jump = discontinuity * z;
+  vf sum = 0.0f;
+  vi n = 0;
+  for (int dy = -SMOOTH_R; dy <= SMOOTH_R; ++dy)
+    for (int dx = -SMOOTH_R; dx <= SMOOTH_R; ++dx) {
+      const vf zn = LOADF(padded + c + dy * padded_width + dx);
+      const vi ok = (zn != 0.0f) & (fabs(zn - z) <= jump);
+      sum += select((vf)(0.0f), zn, ok);
+      n -= ok;  // a true lane is -1
+    }
+  const vf out = select((vf)(0.0f), sum / convert_float16(n), z != 0.0f);
+  store_lanes_f(smoothed + y * width + x0, out, area.z - x0);
 }
 
 // One candidate pixel's observation (6.2.2): world position and normal, radius, radiance,
 // weights and flags; false where the stencil crosses a silhouette or gives no normal. The
 // fuse and the birth kernels both call it, so a born surfel is what the fuse pass saw.
 typedef struct {
-  float3 pw, nw;
+  float pw[3], nw[3];
   float z, radius, weight, colour_weight;
   float radiance[3];
   uchar flags;
@@ -205,14 +235,21 @@ inline bool observe(const Frame* f, int x, int y, __global const ushort* depth,
       fabs(zd - zs) > jump)
     return false;
   const float fx = (float)x, fy = (float)y, fs = (float)NORMAL_STEP;
-  const float3 a = ray(f, fx + fs, fy, zr) - ray(f, fx - fs, fy, zl);
-  const float3 b = ray(f, fx, fy + fs, zd) - ray(f, fx, fy - fs, zu);
-  float3 n = (float3)(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+  float r0[3], r1[3], u0[3], u1[3];
+  ray(f, fx + fs, fy, zr, r1);
+  ray(f, fx - fs, fy, zl, r0);
+  ray(f, fx, fy + fs, zd, u1);
+  ray(f, fx, fy - fs, zu, u0);
+  const float a[3] = {r1[0] - r0[0], r1[1] - r0[1], r1[2] - r0[2]};
+  const float b[3] = {u1[0] - u0[0], u1[1] - u0[1], u1[2] - u0[2]};
+  float n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
   const float n_len = sqrt(dot3(n, n));
   if (!(n_len > 0)) return false;
-  n = n / n_len;
-  const float3 pc = ray(f, fx, fy, z);
-  if (dot3(n, pc) > 0) n = -n;  // towards the camera
+  for (int k = 0; k < 3; ++k) n[k] = n[k] / n_len;
+  float pc[3];
+  ray(f, fx, fy, z, pc);
+  if (dot3(n, pc) > 0)  // towards the camera
+    for (int k = 0; k < 3; ++k) n[k] = -n[k];
 
   const uchar r = colour[3 * i], g = colour[3 * i + 1], bl = colour[3 * i + 2];
   uchar flags = 0;
@@ -226,78 +263,156 @@ inline bool observe(const Frame* f, int x, int y, __global const ushort* depth,
   o->flags = flags;
   o->weight = radial_weight[i];
   o->colour_weight = flags ? o->weight * f->clipped_scale : o->weight;
-  o->radius = 1.41421356f * z / f->f_mean / fmax(fabs(n.z), f->inv_max_radius_factor);
+  o->radius = 1.41421356f * z / f->f_mean / fmax(fabs(n[2]), f->inv_max_radius_factor);
   o->z = z;
-  o->pw = transform(f->r_wc, f->t_wc, pc);
-  o->nw = rotate(f->r_wc, n);
+  transform(f->r_wc, f->t_wc, pc[0], pc[1], pc[2], o->pw);
+  rotate(f->r_wc, n[0], n[1], n[2], o->nw);
   return true;
 }
 
-// Per pixel of `rect` (mask set): the observation, its correspondence among the surfels in
-// its INDEX_SCALE^2 cells (the closest depth within the tolerance whose normal agrees, the
-// first in row-major order on a tie), and the confidence-weighted fuse (6.2.2). `codes` says
-// what the pixel did: nothing, fused or to be born (births are written in row-major order by
-// write_births).
-__kernel void fuse_pixels(__global const ushort* depth, __global const uchar* colour,
-                          __global const float* smoothed, __global const float* radial_weight,
-                          __constant float* linear, __global const uchar* mask,
-                          __global const ulong* index_map, const Frame frame, int4 rect,
-                          long frame_index, __global float* F, __global long* T, int cap,
-                          __global uchar* codes) {
-  const int x = get_global_id(0), y = get_global_id(1);
-  if (x >= rect.z || y >= rect.w) return;
+// One candidate's correspondence among the surfels in its INDEX_SCALE^2 cells (the closest
+// depth within the tolerance whose normal agrees, the first in row-major order on a tie) and
+// the confidence-weighted fuse (6.2.2); CODE_BORN when none matches.
+inline uchar fuse_one(const Frame* f, int x, int y, const Observation* o,
+                      __global const ulong* index_map, __global float* F, __global long* T, int cap,
+                      long frame_index) {
+  const int iw = f->width * INDEX_SCALE;
+  uint best = NO_CELL;
+  float best_dz = f->depth_tolerance;
+  for (int cy = y * INDEX_SCALE; cy < (y + 1) * INDEX_SCALE; ++cy)
+    for (int cx = x * INDEX_SCALE; cx < (x + 1) * INDEX_SCALE; ++cx) {
+      const ulong cell = index_map[cy * iw + cx];
+      if (cell == EMPTY_CELL) continue;
+      const uint id = (uint)cell;
+      const float dz = fabs(as_float((uint)(cell >> 32)) - o->z);
+      if (dz >= best_dz) continue;
+      const float sn[3] = {F[N_X * cap + id], F[N_Y * cap + id], F[N_Z * cap + id]};
+      if (dot3(sn, o->nw) < f->cos_normal) continue;
+      best = id;
+      best_dz = dz;
+    }
+  if (best == NO_CELL) return CODE_BORN;
+  const float c = F[CONF * cap + best], sum = c + o->weight, colour_sum = c + o->colour_weight;
+  float nn[3];
+  for (int k = 0; k < 3; ++k) {
+    const int p = (P_X + k) * cap + best, q = (N_X + k) * cap + best;
+    F[p] = (c * F[p] + o->weight * o->pw[k]) / sum;
+    nn[k] = c * F[q] + o->weight * o->nw[k];
+  }
+  const float nn2 = dot3(nn, nn);
+  for (int k = 0; k < 3; ++k)  // Eigen's normalized()
+    F[(N_X + k) * cap + best] = nn2 > 0 ? nn[k] / sqrt(nn2) : nn[k];
+  F[RADIUS * cap + best] = (c * F[RADIUS * cap + best] + o->weight * o->radius) / sum;
+  for (int k = 0; k < 3; ++k) {
+    const int p = (RAD_R + k) * cap + best;
+    F[p] = (c * F[p] + o->colour_weight * o->radiance[k]) / colour_sum;
+  }
+  F[CONF * cap + best] = sum;
+  T[LAST_SEEN * cap + best] = frame_index;
+  return CODE_FUSED;
+}
+
+// Per 16 pixels of a row of `rect` (mask set): the observations, lane for lane observe()'s
+// operations in float16 (its dozen divisions a pixel took most of the per-pixel form's 1.2
+// CPU-ms a frame on the sim's region), then per candidate the correspondence and the fuse.
+// `codes` says what each pixel did: nothing, fused or to be born (births are written in
+// row-major order by write_births, which calls observe() for the same values). Loads run up
+// to 15 pixels past the rectangle: `rect` ends NORMAL_STEP rows above the image's end.
+__kernel void fuse_pixels(__global const ushort* restrict depth,
+                          __global const uchar* restrict colour,
+                          __global const float* restrict smoothed,
+                          __global const float* restrict radial_weight, __constant float* linear,
+                          __global const uchar* restrict mask,
+                          __global const ulong* restrict index_map, const Frame frame, int4 rect,
+                          long frame_index, __global float* restrict F, __global long* restrict T,
+                          int cap, __global uchar* restrict codes) {
+  const int x0 = rect.x + VW * (int)get_global_id(0), y = rect.y + (int)get_global_id(1);
+  if (x0 >= rect.z || y >= rect.w) return;
   const Frame* f = &frame;
-  const int i = y * f->width + x;
-  uchar code = CODE_NONE;
-  Observation o;
-  if (mask[i] && observe(f, x, y, depth, colour, smoothed, radial_weight, linear, &o)) {
-    const int iw = f->width * INDEX_SCALE;
-    uint best = NO_CELL;
-    float best_dz = f->depth_tolerance;
-    for (int cy = y * INDEX_SCALE; cy < (y + 1) * INDEX_SCALE; ++cy)
-      for (int cx = x * INDEX_SCALE; cx < (x + 1) * INDEX_SCALE; ++cx) {
-        const ulong cell = index_map[cy * iw + cx];
-        if (cell == EMPTY_CELL) continue;
-        const uint id = (uint)cell;
-        const float dz = fabs(as_float((uint)(cell >> 32)) - o.z);
-        if (dz >= best_dz) continue;
-        const float3 sn = (float3)(F[N_X * cap + id], F[N_Y * cap + id], F[N_Z * cap + id]);
-        if (dot3(sn, o.nw) < f->cos_normal) continue;
-        best = id;
-        best_dz = dz;
+  const int w = f->width, i = y * w + x0, count = min(VW, rect.z - x0);
+  const vi lane = lanes();
+  vi ok = (lane < count) & (convert_int16(LOADU8(mask + i)) != 0);
+  uchar out[VW];
+  for (int k = 0; k < VW; ++k) out[k] = CODE_NONE;
+  if (any(ok)) {
+    const vf z = convert_float16(LOADU16(depth + i)) * 0.001f;
+    const vf zs = LOADF(smoothed + i), zl = LOADF(smoothed + i - NORMAL_STEP);
+    const vf zr = LOADF(smoothed + i + NORMAL_STEP);
+    const vf zu = LOADF(smoothed + i - NORMAL_STEP * w), zd = LOADF(smoothed + i + NORMAL_STEP * w);
+    const vf jump = f->discontinuity * zs;
+    ok &= (zs != 0.0f) & ~(fabs(zl - zs) > jump) & ~(fabs(zr - zs) > jump) &
+          ~(fabs(zu - zs) > jump) & ~(fabs(zd - zs) > jump);
+    const vf xf = convert_float16(x0 + lane);
+    const float yf = (float)y, fs = (float)NORMAL_STEP;
+    const float ym = yf - f->cy, yu = (yf + fs) - f->cy, yd = (yf - fs) - f->cy;
+    // The stencil's rays, as ray(): ((x - cx) * z) / fx, ((y - cy) * z) / fy.
+    const vf r1x = ((xf + fs) - f->cx) * zr / f->fx, r1y = ym * zr / f->fy;
+    const vf r0x = ((xf - fs) - f->cx) * zl / f->fx, r0y = ym * zl / f->fy;
+    const vf u1x = (xf - f->cx) * zd / f->fx, u1y = yu * zd / f->fy;
+    const vf u0x = (xf - f->cx) * zu / f->fx, u0y = yd * zu / f->fy;
+    const vf ax = r1x - r0x, ay = r1y - r0y, az = zr - zl;
+    const vf bx = u1x - u0x, by = u1y - u0y, bz = zd - zu;
+    vf nx = ay * bz - az * by, ny = az * bx - ax * bz, nz = ax * by - ay * bx;
+    const vf n_len = sqrt((nx * nx + ny * ny) + nz * nz);
+    ok &= n_len > 0.0f;
+    nx = nx / n_len, ny = ny / n_len, nz = nz / n_len;
+    const vf pcx = (xf - f->cx) * z / f->fx, pcy = ym * z / f->fy;
+    const vi flip = ((nx * pcx + ny * pcy) + nz * z) > 0.0f;  // towards the camera
+    nx = select(nx, -nx, flip), ny = select(ny, -ny, flip), nz = select(nz, -nz, flip);
+    vf rf, gf, bf;
+    load_rgb16(colour + 3 * i, &rf, &gf, &bf);
+    const vi R = convert_int16(rf), G = convert_int16(gf), B = convert_int16(bf);
+    const vi sat =
+        (R >= f->saturated_level) | (G >= f->saturated_level) | (B >= f->saturated_level);
+    const vi black = ~sat & (R < f->black_level) & (G < f->black_level) & (B < f->black_level);
+    const vi flags = select(select((vi)(0), (vi)(BORN_BLACK), black), (vi)(BORN_SATURATED), sat);
+    const vf weight = LOADF(radial_weight + i);
+    const vf colour_weight = select(weight, weight * f->clipped_scale, flags != 0);
+    const vf radius = 1.41421356f * z / f->f_mean / fmax(fabs(nz), f->inv_max_radius_factor);
+    const float* r = f->r_wc;
+    const float* t = f->t_wc;
+    float a_pw[3][VW], a_nw[3][VW], a_z[VW], a_radius[VW], a_w[VW], a_cw[VW];
+    int a_ok[VW], a_r[VW], a_g[VW], a_b[VW], a_flags[VW];
+    vstore16(((r[0] * pcx + r[1] * pcy) + r[2] * z) + t[0], 0, a_pw[0]);
+    vstore16(((r[3] * pcx + r[4] * pcy) + r[5] * z) + t[1], 0, a_pw[1]);
+    vstore16(((r[6] * pcx + r[7] * pcy) + r[8] * z) + t[2], 0, a_pw[2]);
+    vstore16((r[0] * nx + r[1] * ny) + r[2] * nz, 0, a_nw[0]);
+    vstore16((r[3] * nx + r[4] * ny) + r[5] * nz, 0, a_nw[1]);
+    vstore16((r[6] * nx + r[7] * ny) + r[8] * nz, 0, a_nw[2]);
+    vstore16(z, 0, a_z);
+    vstore16(radius, 0, a_radius);
+    vstore16(weight, 0, a_w);
+    vstore16(colour_weight, 0, a_cw);
+    vstore16(ok, 0, a_ok);
+    vstore16(R, 0, a_r);
+    vstore16(G, 0, a_g);
+    vstore16(B, 0, a_b);
+    vstore16(flags, 0, a_flags);
+    for (int k = 0; k < count; ++k) {
+      if (!a_ok[k]) continue;
+      Observation o;
+      for (int c = 0; c < 3; ++c) {
+        o.pw[c] = a_pw[c][k];
+        o.nw[c] = a_nw[c][k];
       }
-    if (best != NO_CELL) {
-      const float c = F[CONF * cap + best], sum = c + o.weight, colour_sum = c + o.colour_weight;
-      const float3 p = (float3)(F[P_X * cap + best], F[P_Y * cap + best], F[P_Z * cap + best]);
-      const float3 sn = (float3)(F[N_X * cap + best], F[N_Y * cap + best], F[N_Z * cap + best]);
-      const float3 np = (c * p + o.weight * o.pw) / sum;
-      float3 nn = c * sn + o.weight * o.nw;
-      const float nn2 = dot3(nn, nn);
-      if (nn2 > 0) nn = nn / sqrt(nn2);  // Eigen's normalized()
-      F[P_X * cap + best] = np.x;
-      F[P_Y * cap + best] = np.y;
-      F[P_Z * cap + best] = np.z;
-      F[N_X * cap + best] = nn.x;
-      F[N_Y * cap + best] = nn.y;
-      F[N_Z * cap + best] = nn.z;
-      F[RADIUS * cap + best] = (c * F[RADIUS * cap + best] + o.weight * o.radius) / sum;
-      for (int ch = 0; ch < 3; ++ch) {
-        const int k = (RAD_R + ch) * cap + best;
-        F[k] = (c * F[k] + o.colour_weight * o.radiance[ch]) / colour_sum;
-      }
-      F[CONF * cap + best] = sum;
-      T[LAST_SEEN * cap + best] = frame_index;
-      code = CODE_FUSED;
-    } else {
-      code = CODE_BORN;
+      o.z = a_z[k];
+      o.radius = a_radius[k];
+      o.weight = a_w[k];
+      o.colour_weight = a_cw[k];
+      o.radiance[0] = linear[a_r[k]] * f->radiance_per_unit[0];
+      o.radiance[1] = linear[a_g[k]] * f->radiance_per_unit[1];
+      o.radiance[2] = linear[a_b[k]] * f->radiance_per_unit[2];
+      o.flags = (uchar)a_flags[k];
+      out[k] = fuse_one(f, x0 + k, y, &o, index_map, F, T, cap, frame_index);
     }
   }
-  codes[i] = code;
+  for (int k = 0; k < count; ++k) codes[i + k] = out[k];
 }
 
 // Per row of `rect`: how many of its pixels fused and how many are to be born.
-__kernel void count_row_codes(__global const uchar* codes, int width, int4 rect,
-                              __global uint* fused_rows, __global uint* born_rows) {
+__kernel void count_row_codes(__global const uchar* restrict codes, int width, int4 rect,
+                              __global uint* restrict fused_rows,
+                              __global uint* restrict born_rows) {
   const int r = get_global_id(0);
   const int y = rect.y + r;
   if (y >= rect.w) return;
@@ -313,11 +428,12 @@ __kernel void count_row_codes(__global const uchar* codes, int width, int4 rect,
 
 // Per block of BLOCK surfels: which stay (neither violated nor unstable and unseen for more
 // than max_unseen frames, 6.2.2 / 6.2.6), and the block's counts.
-__kernel void keep_frame_rule(__global const float* F, __global const long* T, int cap, int n,
-                              __global const uchar* violated, float stable_confidence,
-                              long max_unseen, long frame_index, __global uchar* keep,
-                              __global uint* block_kept, __global uint* block_violated,
-                              __global uint* block_stale) {
+__kernel void keep_frame_rule(__global const float* restrict F, __global const long* restrict T,
+                              int cap, int n, __global const uchar* restrict violated,
+                              float stable_confidence, long max_unseen, long frame_index,
+                              __global uchar* restrict keep, __global uint* restrict block_kept,
+                              __global uint* restrict block_violated,
+                              __global uint* restrict block_stale) {
   const int b = get_global_id(0);
   const int i0 = b * BLOCK;
   if (i0 >= n) return;
@@ -340,9 +456,9 @@ __kernel void keep_frame_rule(__global const float* F, __global const long* T, i
 // One work-item: the exclusive scans of the blocks' kept counts and of the rows' births (which
 // follow the kept surfels), and the frame's totals: kept, born, fused, violated, stale.
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void scan_counts(
-    __global uint* block_kept, __global const uint* block_violated,
-    __global const uint* block_stale, int blocks, __global const uint* fused_rows,
-    __global uint* born_rows, int rows, __global uint* totals) {
+    __global uint* restrict block_kept, __global const uint* restrict block_violated,
+    __global const uint* restrict block_stale, int blocks, __global const uint* restrict fused_rows,
+    __global uint* restrict born_rows, int rows, __global uint* restrict totals) {
   uint kept = 0, bad = 0, stale = 0;
   for (int b = 0; b < blocks; ++b) {
     const uint k = block_kept[b];
@@ -366,10 +482,12 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void scan_counts(
 }
 
 // Per block: its kept surfels to the other set, in order, from the block's offset.
-__kernel void compact_surfels(__global const float* F, __global const long* T,
-                              __global const uchar* FL, int cap, int n, __global const uchar* keep,
-                              __global const uint* block_offset, __global float* F2,
-                              __global long* T2, __global uchar* FL2, int cap2) {
+__kernel void compact_surfels(__global const float* restrict F, __global const long* restrict T,
+                              __global const uchar* restrict FL, int cap, int n,
+                              __global const uchar* restrict keep,
+                              __global const uint* restrict block_offset,
+                              __global float* restrict F2, __global long* restrict T2,
+                              __global uchar* restrict FL2, int cap2) {
   const int b = get_global_id(0);
   const int i0 = b * BLOCK;
   if (i0 >= n) return;
@@ -387,11 +505,14 @@ __kernel void compact_surfels(__global const float* F, __global const long* T,
 
 // Per row of `rect`: its births, new unstable surfels (clipped pixels start lower, 6.2.2),
 // written in row-major order after the kept surfels: the reference's order.
-__kernel void write_births(__global const ushort* depth, __global const uchar* colour,
-                           __global const float* smoothed, __global const float* radial_weight,
-                           __constant float* linear, __global const uchar* codes, const Frame frame,
-                           int4 rect, __global const uint* row_offset, long frame_index,
-                           __global float* F, __global long* T, __global uchar* FL, int cap) {
+__kernel void write_births(__global const ushort* restrict depth,
+                           __global const uchar* restrict colour,
+                           __global const float* restrict smoothed,
+                           __global const float* restrict radial_weight, __constant float* linear,
+                           __global const uchar* restrict codes, const Frame frame, int4 rect,
+                           __global const uint* restrict row_offset, long frame_index,
+                           __global float* restrict F, __global long* restrict T,
+                           __global uchar* restrict FL, int cap) {
   const int r = get_global_id(0);
   const int y = rect.y + r;
   if (y >= rect.w) return;
@@ -401,12 +522,10 @@ __kernel void write_births(__global const ushort* depth, __global const uchar* c
     if (codes[y * f->width + x] != CODE_BORN) continue;
     Observation ob;
     observe(f, x, y, depth, colour, smoothed, radial_weight, linear, &ob);  // true: it was born
-    F[P_X * cap + o] = ob.pw.x;
-    F[P_Y * cap + o] = ob.pw.y;
-    F[P_Z * cap + o] = ob.pw.z;
-    F[N_X * cap + o] = ob.nw.x;
-    F[N_Y * cap + o] = ob.nw.y;
-    F[N_Z * cap + o] = ob.nw.z;
+    for (int k = 0; k < 3; ++k) {
+      F[(P_X + k) * cap + o] = ob.pw[k];
+      F[(N_X + k) * cap + o] = ob.nw[k];
+    }
     F[RADIUS * cap + o] = ob.radius;
     F[CONF * cap + o] = ob.colour_weight;
     F[RAD_R * cap + o] = ob.radiance[0];
@@ -422,8 +541,9 @@ __kernel void write_births(__global const ushort* depth, __global const uchar* c
 // The budget's eviction order (issue #21 item 1; the reference's): farthest shell first, then
 // the least confident, then the newest (highest index). As a key that is larger for what goes
 // first: (shell, ~confidence bits, index), the shell clamped to 16 bits (3.3 km at 5 cm).
-inline uint3 eviction_key(__global const float* F, int cap, int i, float3 centre, float shell_m) {
-  const float3 d = (float3)(F[P_X * cap + i], F[P_Y * cap + i], F[P_Z * cap + i]) - centre;
+inline uint3 eviction_key(__global const float* F, int cap, int i, float4 centre, float shell_m) {
+  const float d[3] = {F[P_X * cap + i] - centre.x, F[P_Y * cap + i] - centre.y,
+                      F[P_Z * cap + i] - centre.z};
   const float shell = floor(sqrt(dot3(d, d)) / shell_m);
   return (uint3)((uint)min(shell, 65535.0f), ~as_uint(F[CONF * cap + i]), (uint)i);
 }
@@ -439,15 +559,16 @@ inline uint key_word(uint3 key, int word) {
 }
 
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void eviction_histogram(
-    __global const float* F, int cap, int n, float4 centre, float shell_m,
-    __global const uint* state, int word, int shift, int chunk, __global uint* histogram) {
+    __global const float* restrict F, int cap, int n, float4 centre, float shell_m,
+    __global const uint* restrict state, int word, int shift, int chunk,
+    __global uint* restrict histogram) {
   const int i0 = get_global_id(0) * chunk;
   if (i0 >= n) return;
   const int i1 = min(i0 + chunk, n);
   uint local_hist[256];
   for (int d = 0; d < 256; ++d) local_hist[d] = 0;
   for (int i = i0; i < i1; ++i) {
-    const uint3 key = eviction_key(F, cap, i, centre.xyz, shell_m);
+    const uint3 key = eviction_key(F, cap, i, centre, shell_m);
     if (matches(key, state)) ++local_hist[(key_word(key, word) >> shift) & 0xffu];
   }
   for (int d = 0; d < 256; ++d)
@@ -455,7 +576,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void eviction_histogram(
 }
 
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void eviction_select(
-    __global uint* histogram, __global uint* state, int word, int shift) {
+    __global uint* restrict histogram, __global uint* restrict state, int word, int shift) {
   const uint need = state[0];
   uint above = 0;
   int digit = 0;
@@ -473,9 +594,9 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void eviction_select(
 }
 
 // Per block: the surfels below the selected key stay (keys are unique: exactly `excess` go).
-__kernel void keep_below_key(__global const float* F, int cap, int n, float4 centre, float shell_m,
-                             __global const uint* state, __global uchar* keep,
-                             __global uint* block_kept) {
+__kernel void keep_below_key(__global const float* restrict F, int cap, int n, float4 centre,
+                             float shell_m, __global const uint* restrict state,
+                             __global uchar* restrict keep, __global uint* restrict block_kept) {
   const int b = get_global_id(0);
   const int i0 = b * BLOCK;
   if (i0 >= n) return;
@@ -483,7 +604,7 @@ __kernel void keep_below_key(__global const float* F, int cap, int n, float4 cen
   const uint3 t = (uint3)(state[1], state[2], state[3]);
   uint kept = 0;
   for (int i = i0; i < i1; ++i) {
-    const uint3 k = eviction_key(F, cap, i, centre.xyz, shell_m);
+    const uint3 k = eviction_key(F, cap, i, centre, shell_m);
     const bool stays = k.x < t.x || (k.x == t.x && (k.y < t.y || (k.y == t.y && k.z < t.z)));
     keep[i] = stays;
     kept += stays;

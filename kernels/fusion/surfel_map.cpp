@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "kernels/fusion/surfel_map_cl.hpp"
+#include "kernels/occlusion/common/vector16_cl.hpp"
 
 namespace probeless::fusion {
 namespace {
@@ -38,6 +39,21 @@ struct FrameArg {
 };
 static_assert(sizeof(FrameArg) == 48 * 4);
 
+const std::string& surfel_map_source() {
+  static const std::string source =
+      std::string(cl_source::vector16) + std::string(cl_source::surfel_map);
+  return source;
+}
+
+// A launch over `r` in blocks of 16 pixels of a row (surfel_map.cl's row-streaming kernels).
+void run_rows_of_16(ComputeContext& ctx, const ::cl::Kernel& kernel, const PixelRect& r) {
+  if (r.empty()) return;
+  ctx.queue().enqueueNDRangeKernel(kernel, ::cl::NullRange,
+                                   ::cl::NDRange(static_cast<std::size_t>((r.width() + 15) / 16),
+                                                 static_cast<std::size_t>(r.height())),
+                                   ::cl::NullRange);
+}
+
 cl_int4 rect_arg(const PixelRect& r) {
   return {{r.x0, r.y0, r.x1, r.y1}};
 }
@@ -48,25 +64,27 @@ void set_args(::cl::Kernel& kernel, const Args&... args) {
   (kernel.setArg(i++, args), ...);
 }
 
-// The pixels whose world point can lie in the region's sphere: the projection of its bounding
-// cube, 2 px wider for rounding; the whole image when a corner is not in front of the camera.
+// The pixels whose world point can lie in the region's sphere: the bounding box of its
+// projection (per axis the two planes through the camera's centre tangent to it), 2 px wider
+// for rounding; the whole image when the camera is not clear of the sphere in front.
 PixelRect region_rect(const FrameArg& f, const Eigen::Vector3f& centre, float radius) {
   const PixelRect whole = PixelRect::whole(f.width, f.height);
-  float u0 = INFINITY, v0 = INFINITY, u1 = -INFINITY, v1 = -INFINITY;
-  for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3f w =
-        centre + radius * Eigen::Vector3f(c & 1 ? 1 : -1, c & 2 ? 1 : -1, c & 4 ? 1 : -1);
-    float p[3];
-    for (int r = 0; r < 3; ++r)
-      p[r] =
-          f.r_cw[3 * r] * w.x() + f.r_cw[3 * r + 1] * w.y() + f.r_cw[3 * r + 2] * w.z() + f.t_cw[r];
-    if (!(p[2] > 1e-3f)) return whole;
-    const float u = f.fx * p[0] / p[2] + f.cx, v = f.fy * p[1] / p[2] + f.cy;
-    u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
-  }
-  const auto clampi = [](float x) { return static_cast<int>(std::clamp(x, -1e6f, 1e6f)); };
-  return intersect({clampi(std::floor(u0)) - 2, clampi(std::floor(v0)) - 2,
-                    clampi(std::ceil(u1)) + 3, clampi(std::ceil(v1)) + 3},
+  double c[3];
+  for (int r = 0; r < 3; ++r)
+    c[r] = double{f.r_cw[3 * r]} * centre.x() + double{f.r_cw[3 * r + 1]} * centre.y() +
+           double{f.r_cw[3 * r + 2]} * centre.z() + f.t_cw[r];
+  const double cz = c[2], r2 = double{radius} * radius, a = cz * cz - r2;
+  if (!(cz > 0) || !(a > 1e-6 * r2)) return whole;
+  // The planes x = t z tangent to the sphere: (c_x - t c_z)^2 = r^2 (1 + t^2).
+  const auto span = [&](double cx, double focal, double principal) {
+    const double root = std::sqrt(std::max(0.0, cx * cx + a)) * radius;
+    const double t0 = (cx * cz - root) / a, t1 = (cx * cz + root) / a;
+    return std::array<double, 2>{focal * t0 + principal, focal * t1 + principal};
+  };
+  const auto u = span(c[0], f.fx, f.cx), v = span(c[1], f.fy, f.cy);
+  const auto clampi = [](double x) { return static_cast<int>(std::clamp(x, -1e6, 1e6)); };
+  return intersect({clampi(std::floor(u[0])) - 2, clampi(std::floor(v[0])) - 2,
+                    clampi(std::ceil(u[1])) + 3, clampi(std::ceil(v[1])) + 3},
                    whole);
 }
 
@@ -87,11 +105,11 @@ SurfelMapDevice::SurfelMapDevice(ComputeContext& ctx, SurfelMapParams params)
       "-cl-fp32-correctly-rounded-divide-sqrt",
       params_.index_scale, params_.normal_step_px, params_.normal_smoothing_px, kBlock);
   const auto make = [&](const char* name) {
-    return ctx.kernel("surfel_map", cl_source::surfel_map, options, name);
+    return ctx.kernel("surfel_map", surfel_map_source(), options, name);
   };
   clear_ = make("clear_index_map");
   project_ = make("project_surfels");
-  mask_ = make("region_mask");
+  mask_ = make("prepare_depth");
   smooth_ = make("smooth_depth");
   fuse_ = make("fuse_pixels");
   count_rows_ = make("count_row_codes");
@@ -129,7 +147,17 @@ void SurfelMapDevice::prepare_frame_buffers(const PinholeIntrinsics& k) {
     index_map_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, cells * sizeof(cl_ulong));
     q.enqueueFillBuffer(index_map_, ~cl_ulong{0}, 0, cells * sizeof(cl_ulong));
     projected_ = 0;  // nothing of the old map to clear
-    smoothed_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, pixels * sizeof(cl_float));
+    // + a vector: fuse_pixels loads 16 pixels from the rectangle's last column.
+    smoothed_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, (pixels + 16) * sizeof(cl_float));
+    // The smoothing's input, padded by its radius in zeros (written once: the kernel writes
+    // only the image's pixels).
+    const int pad = params_.normal_smoothing_px;
+    // + a vector and the window's reach: the last row's last block reads past its end.
+    const std::size_t padded =
+        static_cast<std::size_t>(k.width + 2 * pad) * static_cast<std::size_t>(k.height + 2 * pad) +
+        16 + 2 * pad;
+    padded_depth_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, padded * sizeof(cl_float));
+    q.enqueueFillBuffer(padded_depth_, cl_float{0}, 0, padded * sizeof(cl_float));
     mask_buf_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, pixels);
     codes_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, pixels);
     radial_weight_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, pixels * sizeof(cl_float));
@@ -258,11 +286,14 @@ SurfelIntegrationStats SurfelMapDevice::integrate(const DeviceDepthImage& depth,
   f.black_level = p.black_level;
 
   // The pixels that can be candidates: the region's projection inside the normal stencil's
-  // border; `area` adds the stencil's reach, where the mask and the smoothed depth are needed.
+  // border; `area` adds the stencil's reach, where the smoothed depth is needed, and `outer`
+  // the smoothing's, where the depth is.
   const int step = p.normal_step_px;
   const PixelRect rect = intersect(region_rect(f, p.region_centre, p.region_radius_m),
                                    {step, step, k.width - step, k.height - step});
   const PixelRect area = grown(rect, step, k.width, k.height);
+  const PixelRect outer = grown(area, p.normal_smoothing_px, k.width, k.height);
+  const int padded_width = k.width + 2 * p.normal_smoothing_px;
   const auto rect_pixels = static_cast<std::size_t>(rect.width()) * rect.height();
   ensure_capacity(count_ + rect_pixels);
   SurfelSet& cur = sets_[current_];
@@ -279,14 +310,15 @@ SurfelIntegrationStats SurfelMapDevice::integrate(const DeviceDepthImage& depth,
 
   const auto rows = static_cast<cl_int>(rect.height());
   if (!rect.empty()) {
-    set_args(mask_, depth.buffer(), f, rect_arg(rect), rect_arg(area), mask_buf_);
-    ctx_.run_2d(mask_, area);
-    set_args(smooth_, depth.buffer(), mask_buf_, rect_arg(area), f.width, f.height, f.discontinuity,
+    set_args(mask_, depth.buffer(), f, rect_arg(rect), rect_arg(outer), padded_width, padded_depth_,
+             mask_buf_);
+    run_rows_of_16(ctx_, mask_, outer);
+    set_args(smooth_, padded_depth_, padded_width, f.width, rect_arg(area), f.discontinuity,
              smoothed_);
-    ctx_.run_2d(smooth_, area);
+    run_rows_of_16(ctx_, smooth_, area);
     set_args(fuse_, depth.buffer(), colour.buffer(), smoothed_, radial_weight_, linear_, mask_buf_,
              index_map_, f, rect_arg(rect), frame, cur.floats, cur.frames, cap, codes_);
-    ctx_.run_2d(fuse_, rect);
+    run_rows_of_16(ctx_, fuse_, rect);
     set_args(count_rows_, codes_, f.width, rect_arg(rect), fused_rows_, born_rows_);
     run_1d(count_rows_, static_cast<std::size_t>(rows), kLocalWalk);
   }

@@ -75,9 +75,10 @@ class SurfelMapDevice {
   // flag, the keep flag; per block of kBlock surfels: kept, violated, stale counts.
   ::cl::Buffer cells_, violated_, keep_, block_kept_, block_violated_, block_stale_;
   // Per pixel: the index map (index_scale^2 cells a pixel, depth bits << 32 | index), the
-  // smoothed depth, the candidate mask, what the pixel did, the radial weight (from the
-  // host's std::hypot and std::exp, as the reference computes it).
-  ::cl::Buffer index_map_, smoothed_, mask_buf_, codes_, radial_weight_;
+  // depth in metres padded by the smoothing radius, the smoothed depth, the candidate mask, what
+  // the pixel did, the radial weight (from the host's std::hypot and std::exp, as the reference
+  // computes it).
+  ::cl::Buffer index_map_, padded_depth_, smoothed_, mask_buf_, codes_, radial_weight_;
   int width_ = 0, height_ = 0;
   float weight_cx_ = 0, weight_cy_ = 0;
   // Per row of the frame: fused and born counts (the births' offsets after the scan).
