@@ -17,8 +17,9 @@
 #pragma OPENCL FP_CONTRACT OFF
 #pragma OPENCL EXTENSION cl_khr_int64_extended_atomics : enable
 
-#if !defined(INDEX_SCALE) || !defined(NORMAL_STEP) || !defined(SMOOTH_R) || !defined(BLOCK)
-#error "surfel_map.cl needs -DINDEX_SCALE, -DNORMAL_STEP, -DSMOOTH_R and -DBLOCK"
+#if !defined(INDEX_SCALE) || !defined(NORMAL_STEP) || !defined(SMOOTH_R) || !defined(PAD) || \
+    !defined(BLOCK)
+#error "surfel_map.cl needs -DINDEX_SCALE, -DNORMAL_STEP, -DSMOOTH_R, -DPAD and -DBLOCK"
 #endif
 
 #define P_X 0
@@ -35,6 +36,10 @@
 #define FLOAT_PLANES 11
 #define CREATED 0
 #define LAST_SEEN 1
+
+#define GATHER16(p, i)                                                                     \
+  (p[(i).s0], p[(i).s1], p[(i).s2], p[(i).s3], p[(i).s4], p[(i).s5], p[(i).s6], p[(i).s7], \
+   p[(i).s8], p[(i).s9], p[(i).sa], p[(i).sb], p[(i).sc], p[(i).sd], p[(i).se], p[(i).sf])
 
 #define NO_CELL 0xffffffffu
 #define EMPTY_CELL 0xffffffffffffffffUL
@@ -98,7 +103,8 @@ __kernel void clear_index_map(__global ulong* restrict index_map,
 // in front of the nearest depth in the 3 x 3 pixels around it by more than the margin is
 // marked for removal (6.2.6) and not entered.
 __kernel void project_surfels(__global const float* restrict F, int cap, int n,
-                              __global const ushort* restrict depth, const Frame frame,
+                              __global const ushort* restrict depth,
+                              __global const float* restrict nearest3, int4 area, const Frame frame,
                               __global ulong* restrict index_map, __global uint* restrict cells,
                               __global uchar* restrict violated) {
   const int i = get_global_id(0);
@@ -117,13 +123,16 @@ __kernel void project_surfels(__global const float* restrict F, int cap, int n,
     const int px = ix / INDEX_SCALE, py = iy / INDEX_SCALE;
     if (depth[py * f->width + px] != 0) {
       float nearest = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int qx = px + dx, qy = py + dy;
-          if (qx < 0 || qy < 0 || qx >= f->width || qy >= f->height) continue;
-          const float z = metres(depth, qy * f->width + qx);
-          if (z > 0 && (nearest == 0 || z < nearest)) nearest = z;
-        }
+      if (px >= area.x && py >= area.y && px < area.z && py < area.w)
+        nearest = nearest3[py * f->width + px];  // smooth_depth's, where it ran
+      else
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int qx = px + dx, qy = py + dy;
+            if (qx < 0 || qy < 0 || qx >= f->width || qy >= f->height) continue;
+            const float z = metres(depth, qy * f->width + qx);
+            if (z > 0 && (nearest == 0 || z < nearest)) nearest = z;
+          }
       bad = pc[2] < nearest - f->violation_margin;
     }
     if (!bad) {
@@ -168,7 +177,7 @@ __kernel void prepare_depth(__global const ushort* restrict depth, const Frame f
     for (int k = 0; k < VW; ++k) t[k] = k < count ? (float)depth[i + k] * 0.001f : 0.0f;
     z = vload16(0, t);
   }
-  store_lanes_f(padded + (y + SMOOTH_R) * padded_width + x0 + SMOOTH_R, z, count);
+  store_lanes_f(padded + (y + PAD) * padded_width + x0 + PAD, z, count);
   const vi xs = x0 + lanes();
   const vf xf = convert_float16(xs);
   const vf pcx = (xf - f->cx) * z / f->fx, pcy = ((float)y - f->cy) * z / f->fy;
@@ -192,12 +201,13 @@ __kernel void prepare_depth(__global const ushort* restrict depth, const Frame f
 // Over `area` (the candidates and their normal stencil), 16 pixels a work-item: the depth the
 // normals are taken from, the mean over (2 SMOOTH_R + 1)^2 pixels of the depths on the
 // centre's side of any silhouette, summed in the reference's order (a skipped pixel adds an
-// exact 0); 0 without depth.
+// exact 0); 0 without depth. And the nearest depth around each pixel for the violation test.
 __kernel void smooth_depth(__global const float* restrict padded, int padded_width, int width,
-                           int4 area, float discontinuity, __global float* restrict smoothed) {
+                           int4 area, float discontinuity, __global float* restrict smoothed,
+                           __global float* restrict nearest3) {
   const int x0 = area.x + VW * (int)get_global_id(0), y = area.y + (int)get_global_id(1);
   if (x0 >= area.z || y >= area.w) return;
-  const int c = (y + SMOOTH_R) * padded_width + x0 + SMOOTH_R;
+  const int c = (y + PAD) * padded_width + x0 + PAD;
   const vf z = LOADF(padded + c);
   const vf jump = discontinuity * z;
   vf sum = 0.0f;
@@ -211,6 +221,14 @@ __kernel void smooth_depth(__global const float* restrict padded, int padded_wid
     }
   const vf out = select((vf)(0.0f), sum / convert_float16(n), z != 0.0f);
   store_lanes_f(smoothed + y * width + x0, out, area.z - x0);
+  // The violation test's nearest depth in the 3 x 3 pixels (0 if none), for project_surfels.
+  vf nearest = 0.0f;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const vf zn = LOADF(padded + c + dy * padded_width + dx);
+      nearest = select(nearest, zn, (zn > 0.0f) & ((nearest == 0.0f) | (zn < nearest)));
+    }
+  store_lanes_f(nearest3 + y * width + x0, nearest, area.z - x0);
 }
 
 // One candidate pixel's observation (6.2.2): world position and normal, radius, radiance,
@@ -270,54 +288,15 @@ inline bool observe(const Frame* f, int x, int y, __global const ushort* depth,
   return true;
 }
 
-// One candidate's correspondence among the surfels in its INDEX_SCALE^2 cells (the closest
-// depth within the tolerance whose normal agrees, the first in row-major order on a tie) and
-// the confidence-weighted fuse (6.2.2); CODE_BORN when none matches.
-inline uchar fuse_one(const Frame* f, int x, int y, const Observation* o,
-                      __global const ulong* index_map, __global float* F, __global long* T, int cap,
-                      long frame_index) {
-  const int iw = f->width * INDEX_SCALE;
-  uint best = NO_CELL;
-  float best_dz = f->depth_tolerance;
-  for (int cy = y * INDEX_SCALE; cy < (y + 1) * INDEX_SCALE; ++cy)
-    for (int cx = x * INDEX_SCALE; cx < (x + 1) * INDEX_SCALE; ++cx) {
-      const ulong cell = index_map[cy * iw + cx];
-      if (cell == EMPTY_CELL) continue;
-      const uint id = (uint)cell;
-      const float dz = fabs(as_float((uint)(cell >> 32)) - o->z);
-      if (dz >= best_dz) continue;
-      const float sn[3] = {F[N_X * cap + id], F[N_Y * cap + id], F[N_Z * cap + id]};
-      if (dot3(sn, o->nw) < f->cos_normal) continue;
-      best = id;
-      best_dz = dz;
-    }
-  if (best == NO_CELL) return CODE_BORN;
-  const float c = F[CONF * cap + best], sum = c + o->weight, colour_sum = c + o->colour_weight;
-  float nn[3];
-  for (int k = 0; k < 3; ++k) {
-    const int p = (P_X + k) * cap + best, q = (N_X + k) * cap + best;
-    F[p] = (c * F[p] + o->weight * o->pw[k]) / sum;
-    nn[k] = c * F[q] + o->weight * o->nw[k];
-  }
-  const float nn2 = dot3(nn, nn);
-  for (int k = 0; k < 3; ++k)  // Eigen's normalized()
-    F[(N_X + k) * cap + best] = nn2 > 0 ? nn[k] / sqrt(nn2) : nn[k];
-  F[RADIUS * cap + best] = (c * F[RADIUS * cap + best] + o->weight * o->radius) / sum;
-  for (int k = 0; k < 3; ++k) {
-    const int p = (RAD_R + k) * cap + best;
-    F[p] = (c * F[p] + o->colour_weight * o->radiance[k]) / colour_sum;
-  }
-  F[CONF * cap + best] = sum;
-  T[LAST_SEEN * cap + best] = frame_index;
-  return CODE_FUSED;
-}
-
-// Per 16 pixels of a row of `rect` (mask set): the observations, lane for lane observe()'s
-// operations in float16 (its dozen divisions a pixel took most of the per-pixel form's 1.2
-// CPU-ms a frame on the sim's region), then per candidate the correspondence and the fuse.
-// `codes` says what each pixel did: nothing, fused or to be born (births are written in
-// row-major order by write_births, which calls observe() for the same values). Loads run up
-// to 15 pixels past the rectangle: `rect` ends NORMAL_STEP rows above the image's end.
+// Per 16 pixels of a row of `rect` (mask set): the observations (lane for lane observe()'s
+// operations), the correspondence among the surfels in each pixel's INDEX_SCALE^2 cells and
+// the confidence-weighted fuse (6.2.2), all in float16 with gathers. One work-item per pixel
+// ran scalar: 24 CPU-ms at VGA (every pixel a candidate), ~13 with the observation
+// vectorised, ~11 now; loading the cells as contiguous rows and testing normals lane by lane
+// instead was slower (docs/fusion.md "The surfel map on the device"). `codes` says what
+// each pixel did: nothing, fused or to be born (births are written in row-major order by
+// write_births, which calls observe() for the same values). Loads run up to 15 pixels past the
+// rectangle: `rect` ends NORMAL_STEP rows above the image's end.
 __kernel void fuse_pixels(__global const ushort* restrict depth,
                           __global const uchar* restrict colour,
                           __global const float* restrict smoothed,
@@ -371,40 +350,73 @@ __kernel void fuse_pixels(__global const ushort* restrict depth,
     const vf radius = 1.41421356f * z / f->f_mean / fmax(fabs(nz), f->inv_max_radius_factor);
     const float* r = f->r_wc;
     const float* t = f->t_wc;
-    float a_pw[3][VW], a_nw[3][VW], a_z[VW], a_radius[VW], a_w[VW], a_cw[VW];
-    int a_ok[VW], a_r[VW], a_g[VW], a_b[VW], a_flags[VW];
-    vstore16(((r[0] * pcx + r[1] * pcy) + r[2] * z) + t[0], 0, a_pw[0]);
-    vstore16(((r[3] * pcx + r[4] * pcy) + r[5] * z) + t[1], 0, a_pw[1]);
-    vstore16(((r[6] * pcx + r[7] * pcy) + r[8] * z) + t[2], 0, a_pw[2]);
-    vstore16((r[0] * nx + r[1] * ny) + r[2] * nz, 0, a_nw[0]);
-    vstore16((r[3] * nx + r[4] * ny) + r[5] * nz, 0, a_nw[1]);
-    vstore16((r[6] * nx + r[7] * ny) + r[8] * nz, 0, a_nw[2]);
-    vstore16(z, 0, a_z);
-    vstore16(radius, 0, a_radius);
-    vstore16(weight, 0, a_w);
-    vstore16(colour_weight, 0, a_cw);
-    vstore16(ok, 0, a_ok);
-    vstore16(R, 0, a_r);
-    vstore16(G, 0, a_g);
-    vstore16(B, 0, a_b);
-    vstore16(flags, 0, a_flags);
-    for (int k = 0; k < count; ++k) {
-      if (!a_ok[k]) continue;
-      Observation o;
-      for (int c = 0; c < 3; ++c) {
-        o.pw[c] = a_pw[c][k];
-        o.nw[c] = a_nw[c][k];
+    const vf pw[3] = {((r[0] * pcx + r[1] * pcy) + r[2] * z) + t[0],
+                      ((r[3] * pcx + r[4] * pcy) + r[5] * z) + t[1],
+                      ((r[6] * pcx + r[7] * pcy) + r[8] * z) + t[2]};
+    const vf nw[3] = {(r[0] * nx + r[1] * ny) + r[2] * nz, (r[3] * nx + r[4] * ny) + r[5] * nz,
+                      (r[6] * nx + r[7] * ny) + r[8] * nz};
+    // The correspondence, the 16 pixels at once, cell by cell in the reference's row-major
+    // order (a lane takes a cell only where the reference would: not empty, nearer than its
+    // best so far, the normal within the tolerance). Lanes that take nothing read cell / surfel 0.
+    const int iw = w * INDEX_SCALE;
+    vi best = -1;
+    vf best_dz = f->depth_tolerance;
+    for (int cy = 0; cy < INDEX_SCALE; ++cy)
+      for (int cx = 0; cx < INDEX_SCALE; ++cx) {
+        const vi ci =
+            select((vi)(0), (y * INDEX_SCALE + cy) * iw + (x0 + lane) * INDEX_SCALE + cx, ok);
+        const ulong16 cell = (ulong16)GATHER16(index_map, ci);
+        const vi full = convert_int16(cell != EMPTY_CELL);
+        const vi id = as_int16(convert_uint16(cell & 0xffffffffUL));
+        const vf dz = fabs(as_float16(convert_uint16(cell >> 32)) - z);
+        const vi near = ok & full & ~(dz >= best_dz);
+        if (!any(near)) continue;
+        const vi idm = select((vi)(0), id, near);
+        const vf snx = (vf)GATHER16((F + N_X * cap), idm), sny = (vf)GATHER16((F + N_Y * cap), idm);
+        const vf snz = (vf)GATHER16((F + N_Z * cap), idm);
+        const vi take = near & ~(((snx * nw[0] + sny * nw[1]) + snz * nw[2]) < f->cos_normal);
+        best = select(best, id, take);
+        best_dz = select(best_dz, dz, take);
       }
-      o.z = a_z[k];
-      o.radius = a_radius[k];
-      o.weight = a_w[k];
-      o.colour_weight = a_cw[k];
-      o.radiance[0] = linear[a_r[k]] * f->radiance_per_unit[0];
-      o.radiance[1] = linear[a_g[k]] * f->radiance_per_unit[1];
-      o.radiance[2] = linear[a_b[k]] * f->radiance_per_unit[2];
-      o.flags = (uchar)a_flags[k];
-      out[k] = fuse_one(f, x0 + k, y, &o, index_map, F, T, cap, frame_index);
+    // The fuse (the reference's arithmetic), gathered and written back per matched lane: a surfel
+    // is in one pixel's cells only, so no two lanes or work-items write one surfel.
+    const vi matched = ok & (best >= 0);
+    if (any(matched)) {
+      const vi b = select((vi)(0), best, matched);
+      const vf c = (vf)GATHER16((F + CONF * cap), b);
+      const vf sum = c + weight, colour_sum = c + colour_weight;
+      float a_out[FLOAT_PLANES][VW];
+      vf nn[3];
+      for (int k = 0; k < 3; ++k) {
+        const vf p = (vf)GATHER16((F + (P_X + k) * cap), b);
+        vstore16((c * p + weight * pw[k]) / sum, 0, a_out[P_X + k]);
+        nn[k] = c * (vf)GATHER16((F + (N_X + k) * cap), b) + weight * nw[k];
+      }
+      const vf nn2 = (nn[0] * nn[0] + nn[1] * nn[1]) + nn[2] * nn[2];
+      const vi nonzero = nn2 > 0.0f;
+      for (int k = 0; k < 3; ++k)  // Eigen's normalized()
+        vstore16(select(nn[k], nn[k] / sqrt(nn2), nonzero), 0, a_out[N_X + k]);
+      vstore16((c * (vf)GATHER16((F + RADIUS * cap), b) + weight * radius) / sum, 0, a_out[RADIUS]);
+      const vi channel[3] = {R, G, B};
+      for (int k = 0; k < 3; ++k) {
+        const vf radiance = (vf)GATHER16(linear, channel[k]) * f->radiance_per_unit[k];
+        const vf old = (vf)GATHER16((F + (RAD_R + k) * cap), b);
+        vstore16((c * old + colour_weight * radiance) / colour_sum, 0, a_out[RAD_R + k]);
+      }
+      vstore16(sum, 0, a_out[CONF]);
+      int a_best[VW], a_matched[VW];
+      vstore16(b, 0, a_best);
+      vstore16(matched, 0, a_matched);
+      for (int k = 0; k < count; ++k) {
+        if (!a_matched[k]) continue;
+        for (int q = 0; q < FLOAT_PLANES; ++q) F[q * cap + a_best[k]] = a_out[q][k];
+        T[LAST_SEEN * cap + a_best[k]] = frame_index;
+      }
     }
+    int a_code[VW];
+    vstore16(select(select((vi)(CODE_NONE), (vi)(CODE_BORN), ok), (vi)(CODE_FUSED), matched), 0,
+             a_code);
+    for (int k = 0; k < count; ++k) out[k] = (uchar)a_code[k];
   }
   for (int k = 0; k < count; ++k) codes[i + k] = out[k];
 }

@@ -101,9 +101,9 @@ SurfelMapDevice::SurfelMapDevice(ComputeContext& ctx, SurfelMapParams params)
   // Division and sqrt correctly rounded, as on the host: the device takes the reference's
   // decisions (thresholds on depths, normals and confidences) unless a table says otherwise.
   const std::string options = fmt::format(
-      "-DINDEX_SCALE={} -DNORMAL_STEP={} -DSMOOTH_R={} -DBLOCK={} "
+      "-DINDEX_SCALE={} -DNORMAL_STEP={} -DSMOOTH_R={} -DPAD={} -DBLOCK={} "
       "-cl-fp32-correctly-rounded-divide-sqrt",
-      params_.index_scale, params_.normal_step_px, params_.normal_smoothing_px, kBlock);
+      params_.index_scale, params_.normal_step_px, params_.normal_smoothing_px, pad(), kBlock);
   const auto make = [&](const char* name) {
     return ctx.kernel("surfel_map", surfel_map_source(), options, name);
   };
@@ -149,9 +149,10 @@ void SurfelMapDevice::prepare_frame_buffers(const PinholeIntrinsics& k) {
     projected_ = 0;  // nothing of the old map to clear
     // + a vector: fuse_pixels loads 16 pixels from the rectangle's last column.
     smoothed_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, (pixels + 16) * sizeof(cl_float));
+    nearest3_ = ::cl::Buffer(c, CL_MEM_READ_WRITE, pixels * sizeof(cl_float));
     // The smoothing's input, padded by its radius in zeros (written once: the kernel writes
     // only the image's pixels).
-    const int pad = params_.normal_smoothing_px;
+    const int pad = this->pad();
     // + a vector and the window's reach: the last row's last block reads past its end.
     const std::size_t padded =
         static_cast<std::size_t>(k.width + 2 * pad) * static_cast<std::size_t>(k.height + 2 * pad) +
@@ -292,8 +293,8 @@ SurfelIntegrationStats SurfelMapDevice::integrate(const DeviceDepthImage& depth,
   const PixelRect rect = intersect(region_rect(f, p.region_centre, p.region_radius_m),
                                    {step, step, k.width - step, k.height - step});
   const PixelRect area = grown(rect, step, k.width, k.height);
-  const PixelRect outer = grown(area, p.normal_smoothing_px, k.width, k.height);
-  const int padded_width = k.width + 2 * p.normal_smoothing_px;
+  const PixelRect outer = grown(area, pad(), k.width, k.height);
+  const int padded_width = k.width + 2 * pad();
   const auto rect_pixels = static_cast<std::size_t>(rect.width()) * rect.height();
   ensure_capacity(count_ + rect_pixels);
   SurfelSet& cur = sets_[current_];
@@ -302,20 +303,25 @@ SurfelIntegrationStats SurfelMapDevice::integrate(const DeviceDepthImage& depth,
   const auto n = static_cast<cl_int>(count_);
   const auto frame = static_cast<cl_long>(frame_index);
 
-  set_args(clear_, index_map_, cells_, static_cast<cl_int>(projected_));
-  run_1d(clear_, projected_, kLocal1d);
-  set_args(project_, cur.floats, cap, n, depth.buffer(), f, index_map_, cells_, violated_);
-  run_1d(project_, count_, kLocal1d);
-  projected_ = count_;
-
+  // The depth first (the padded copy, the mask, the smoothing, the nearest depth around each
+  // pixel), then the index map, which the violation test reads it for.
   const auto rows = static_cast<cl_int>(rect.height());
   if (!rect.empty()) {
     set_args(mask_, depth.buffer(), f, rect_arg(rect), rect_arg(outer), padded_width, padded_depth_,
              mask_buf_);
     run_rows_of_16(ctx_, mask_, outer);
     set_args(smooth_, padded_depth_, padded_width, f.width, rect_arg(area), f.discontinuity,
-             smoothed_);
+             smoothed_, nearest3_);
     run_rows_of_16(ctx_, smooth_, area);
+  }
+  set_args(clear_, index_map_, cells_, static_cast<cl_int>(projected_));
+  run_1d(clear_, projected_, kLocal1d);
+  set_args(project_, cur.floats, cap, n, depth.buffer(), nearest3_, rect_arg(area), f, index_map_,
+           cells_, violated_);
+  run_1d(project_, count_, kLocal1d);
+  projected_ = count_;
+
+  if (!rect.empty()) {
     set_args(fuse_, depth.buffer(), colour.buffer(), smoothed_, radial_weight_, linear_, mask_buf_,
              index_map_, f, rect_arg(rect), frame, cur.floats, cur.frames, cap, codes_);
     run_rows_of_16(ctx_, fuse_, rect);

@@ -6,6 +6,7 @@
 // (kept ones in order, then births in row-major order), so the two maps agree surfel for
 // surfel up to float rounding; the tests compare them with stated tolerances.
 #include <CL/opencl.hpp>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -62,6 +63,8 @@ class SurfelMapDevice {
   void ensure_capacity(std::size_t needed);
   void evict(std::size_t excess);
   void run_1d(const ::cl::Kernel& kernel, std::size_t items, std::size_t local);
+  // The padded depth's border: the smoothing's radius, at least the violation test's 1 px.
+  int pad() const { return std::max(params_.normal_smoothing_px, 1); }
 
   ComputeContext& ctx_;
   SurfelMapParams params_;
@@ -75,10 +78,10 @@ class SurfelMapDevice {
   // flag, the keep flag; per block of kBlock surfels: kept, violated, stale counts.
   ::cl::Buffer cells_, violated_, keep_, block_kept_, block_violated_, block_stale_;
   // Per pixel: the index map (index_scale^2 cells a pixel, depth bits << 32 | index), the
-  // depth in metres padded by the smoothing radius, the smoothed depth, the candidate mask, what
-  // the pixel did, the radial weight (from the host's std::hypot and std::exp, as the reference
-  // computes it).
-  ::cl::Buffer index_map_, padded_depth_, smoothed_, mask_buf_, codes_, radial_weight_;
+  // depth in metres padded by the smoothing radius, the smoothed depth, the nearest depth in its 3
+  // x 3 pixels, the candidate mask, what the pixel did, the radial weight (from the host's
+  // std::hypot and std::exp, as the reference computes it).
+  ::cl::Buffer index_map_, padded_depth_, smoothed_, nearest3_, mask_buf_, codes_, radial_weight_;
   int width_ = 0, height_ = 0;
   float weight_cx_ = 0, weight_cy_ = 0;
   // Per row of the frame: fused and born counts (the births' offsets after the scan).
