@@ -2,7 +2,7 @@
 // The HDR surfel map of issue #21 item 1 (thesis 6.2.2, 6.2.6; docs/fusion.md "The surfel map
 // (CPU reference)"): the real geometry near the virtual content as oriented discs with a
 // linear-radiance colour, fused frame by frame from the tracked RGB-D stream. Plain C++: the
-// reference the OpenCL kernels will be tested against, so every rule is sequential and
+// reference the OpenCL map (surfel_map.hpp) is tested against, so every rule is sequential and
 // deterministic (the same frames give the same map, surfel for surfel). Cost on one core of
 // the 2-core Xeon VM (tests' DISABLED_Cost*): 66-73 ms p50 for a 640 x 480 frame with every
 // pixel in the region (~300 000 surfels), 6-8 ms for the sim's view with a 0.5 m region.
