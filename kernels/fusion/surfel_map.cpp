@@ -17,7 +17,7 @@ constexpr std::size_t kFloatPlanes = 11;  // surfel_map.cl's FLOAT_PLANES
 // over blocks short (~90 blocks for the sim's 23 000 surfels) and gives each of PoCL's
 // workers several blocks.
 constexpr int kBlock = 256;
-constexpr std::size_t kLocal1d = 64;   // per-surfel kernels: PoCL vectorises across a group
+constexpr std::size_t kLocal1d = 64;   // per-surfel kernels (scalar: the atomic, the branches)
 constexpr std::size_t kLocalWalk = 4;  // per-row and per-block walks: spread over the workers
 constexpr int kHistogramChunk = 4096;  // surfels per work-item of the eviction's histogram
 constexpr std::size_t kMinCapacity = 4096;
@@ -45,7 +45,9 @@ const std::string& surfel_map_source() {
   return source;
 }
 
-// A launch over `r` in blocks of 16 pixels of a row (surfel_map.cl's row-streaming kernels).
+// A launch over `r` in blocks of 16 pixels of a row (surfel_map.cl's row-streaming kernels),
+// the work-group left to PoCL: an explicit (1, 8) cost 40-43 CPU-ms a VGA frame against 28-29
+// (interleaved A/B, docs/fusion.md "The surfel map on the device").
 void run_rows_of_16(ComputeContext& ctx, const ::cl::Kernel& kernel, const PixelRect& r) {
   if (r.empty()) return;
   ctx.queue().enqueueNDRangeKernel(kernel, ::cl::NullRange,
