@@ -264,7 +264,7 @@ TEST(SurfelMapDevice, UnstableSurfelsUnseenForTwentyFramesGoAsInTheReference) {
   expect_maps_agree(maps.device, maps.reference, "21 frames unseen");
 }
 
-TEST(SurfelMapDevice, ClippedPixelsAsTheReference) {
+TEST(SurfelMapDevice, ClippedPixelsAsTheReferenceFromHostOrDeviceImages) {
   View v = render(looking_down(0, 0, 1.0), {});
   for (int y = 0; y < v.k.height; ++y)
     for (int x = 0; x < v.k.width; ++x) {
@@ -282,6 +282,18 @@ TEST(SurfelMapDevice, ClippedPixelsAsTheReference) {
   }
   EXPECT_GT(saturated, 50000u);
   EXPECT_GT(black, 50000u);
+  // The same frame from images already on the device (the service's upload): the same map.
+  SurfelMapDevice uploaded(cl_context(), everywhere());
+  uploaded.integrate(DeviceDepthImage(cl_context(), v.depth),
+                     DeviceImageRGB8(cl_context(), v.colour), {2.0f, 1.0f, 0.5f}, v.k,
+                     v.T_world_camera, 0);
+  const std::vector<Surfel> a = uploaded.download(), b = maps.device.download();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].position, b[i].position) << i;
+    ASSERT_EQ(a[i].confidence, b[i].confidence) << i;
+    ASSERT_EQ(a[i].radiance, b[i].radiance) << i;
+  }
 }
 
 // The eviction's order is total (shell, confidence, index) and the device's surfels are in
