@@ -3,21 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <stdexcept>
-#include <string>
 
 namespace probeless::fusion {
 namespace {
 
 constexpr float kSqrt2 = 1.41421356f;
-
-void require(bool ok, const char* what) {
-  if (!ok) throw std::invalid_argument(std::string("SurfelMap: ") + what);
-}
-
-std::string size_text(int w, int h) {
-  return std::to_string(w) + "x" + std::to_string(h);
-}
 
 struct Camera {  // the intrinsics as floats, and the frame's pose both ways
   float fx, fy, cx, cy;
@@ -68,26 +58,8 @@ float smoothed_depth(const DepthImage& depth, int x, int y, int r, float discont
 }  // namespace
 
 SurfelMap::SurfelMap(SurfelMapParams params) : params_(params) {
-  const auto& p = params_;
-  require(p.stable_confidence > 0, "stable_confidence must be > 0");
-  require(p.unstable_max_unseen_frames >= 0, "unstable_max_unseen_frames must be >= 0");
-  require(p.max_surfels > 0, "max_surfels must be > 0");
-  require(p.region_radius_m > 0 && p.eviction_shell_m > 0, "region and shell radii must be > 0");
-  require(p.index_scale >= 1 && p.index_scale <= 8, "index_scale must be in 1..8");
-  require(p.depth_tolerance_m > 0 && p.normal_tolerance_rad > 0, "tolerances must be > 0");
-  require(p.max_radius_factor >= 1, "max_radius_factor must be >= 1");
-  require(p.normal_step_px >= 1 && p.normal_smoothing_px >= 0,
-          "need normal_step_px >= 1, normal_smoothing_px >= 0");
-  require(p.discontinuity_ratio > 0, "discontinuity_ratio must be > 0");
-  require(p.min_depth_m > 0 && p.max_depth_m > p.min_depth_m, "need 0 < min_depth < max_depth");
-  require(p.radial_sigma > 0, "radial_sigma must be > 0");
-  require(p.clipped_weight_scale > 0 && p.clipped_weight_scale <= 1,
-          "clipped_weight_scale must be in (0, 1]");
-  require(p.black_level >= 0 && p.black_level <= p.saturated_level && p.saturated_level <= 256,
-          "need 0 <= black_level <= saturated_level <= 256");
-  require(p.gamma > 0, "gamma must be > 0");
-  require(p.violation_margin_m > 0, "violation_margin_m must be > 0");
-  for (int v = 0; v < 256; ++v) linear_[v] = static_cast<float>(std::pow(v / 255.0, p.gamma));
+  check_surfel_map_params(params_, "SurfelMap");
+  for (int v = 0; v < 256; ++v) linear_[v] = static_cast<float>(std::pow(v / 255.0, params_.gamma));
 }
 
 std::size_t SurfelMap::stable_count() const {
@@ -99,19 +71,8 @@ SurfelIntegrationStats SurfelMap::integrate(const DepthImage& depth, const Image
                                             const std::array<float, 3>& radiance_per_unit,
                                             const PinholeIntrinsics& k, const Pose& T_world_camera,
                                             std::int64_t frame_index) {
-  if (k.width <= 0 || k.height <= 0 || !(k.fx > 0) || !(k.fy > 0))
-    throw std::invalid_argument("SurfelMap::integrate: intrinsics need a positive size and focal");
-  if (depth.width() != k.width || depth.height() != k.height)
-    throw std::invalid_argument("SurfelMap::integrate: depth is " +
-                                size_text(depth.width(), depth.height()) + ", intrinsics say " +
-                                size_text(k.width, k.height));
-  if (colour.width() != k.width || colour.height() != k.height)
-    throw std::invalid_argument("SurfelMap::integrate: colour is " +
-                                size_text(colour.width(), colour.height()) + ", intrinsics say " +
-                                size_text(k.width, k.height));
-  for (float e : radiance_per_unit)
-    if (!(e > 0) || !std::isfinite(e))
-      throw std::invalid_argument("SurfelMap::integrate: radiance_per_unit must be > 0 and finite");
+  check_surfel_frame("SurfelMap", depth.width(), depth.height(), colour.width(), colour.height(),
+                     radiance_per_unit, k);
 
   const SurfelMapParams& p = params_;
   const int W = k.width, H = k.height, S = p.index_scale;

@@ -22,8 +22,10 @@ struct Options {
   std::string json;
   eval::RenderEvalOptions eval;
   std::string scene;  // a moving-object scene (docs/fusion.md); empty: the default protocol
+  std::string fusion_map = "reference";  // with --scene: which surfel map the fusion runs
   bool list_scenes = false;
-  bool orbit_given = false;  // --orbit or --after: the default protocol's only
+  bool orbit_given = false;       // --orbit or --after: the default protocol's only
+  bool fusion_map_given = false;  // --fusion-map: a --scene's only
 };
 
 std::string optional_s(const std::optional<double>& v) {
@@ -41,9 +43,14 @@ void run(Options& o) {
   if (!o.scene.empty()) {
     if (o.orbit_given)
       throw CommandError("eval render: --orbit and --after do not apply to a --scene");
-    run_eval_render_scene({o.scene, o.eval.sim_spec, o.json, o.eval.dump_dir, o.eval.config});
+    run_eval_render_scene(
+        {o.scene, o.eval.sim_spec, o.json, o.eval.dump_dir, o.eval.config, o.fusion_map});
     return;
   }
+  if (o.fusion_map_given)
+    throw CommandError(
+        "eval render: --fusion-map applies to a --scene only (the default "
+        "protocol runs no fusion)");
   if (!o.eval.dump_dir.empty()) std::filesystem::create_directories(o.eval.dump_dir);
   eval::RenderEvalReport r;
   try {
@@ -123,14 +130,20 @@ void add_eval_render_command(CLI::App& eval) {
   cmd->add_option("--scene", o->scene,
                   "A moving-object scene (--list-scenes): the sphere's error over the nearby "
                   "object and the arrival and removal times (docs/fusion.md)");
+  auto* fusion_map =
+      cmd->add_option("--fusion-map", o->fusion_map,
+                      "With --scene: the fusion column's surfel map, reference (CPU) or device "
+                      "(OpenCL)")
+          ->capture_default_str();
   cmd->add_flag("--list-scenes", o->list_scenes, "Print the moving-object scene names and exit");
   cmd->add_option("--sim", o->eval.sim_spec, "Extra sim options (seed=2,fisheye_size=1024,...)");
   cmd->add_option("--json", o->json, "Write the report as JSON");
   cmd->add_option("--dump", o->eval.dump_dir,
                   "Write DIR/chrome_sphere.png (captured | truth | difference x4) and "
                   "DIR/objects.png (captured | truth)");
-  cmd->callback([o, orbit, after] {
+  cmd->callback([o, orbit, after, fusion_map] {
     o->orbit_given = orbit->count() > 0 || after->count() > 0;
+    o->fusion_map_given = fusion_map->count() > 0;
     run(*o);
   });
 }

@@ -11,7 +11,8 @@ struct SceneCommandOptions {
   std::string scene;     // a name from --list-scenes
   std::string sim_spec;  // extra sim options
   std::string json, dump_dir;
-  ServiceConfig config;  // its source the sim
+  ServiceConfig config;                  // its source the sim
+  std::string fusion_map = "reference";  // "reference" or "device" (eval::FusionMap)
 };
 
 // The moving-object scene names, one a line, on stdout.

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 
@@ -13,7 +14,9 @@
 #include "app/render/renderer.hpp"
 #include "drivers/sim/sim_rig.hpp"
 #include "kernels/fusion/surfel_environment_reference.hpp"
+#include "kernels/fusion/surfel_map.hpp"
 #include "kernels/fusion/surfel_map_reference.hpp"
+#include "kernels/runtime/compute_context.hpp"
 #include "lab/eval/render_eval.hpp"
 #include "lab/eval/render_eval_common.hpp"
 
@@ -67,15 +70,26 @@ std::vector<bool> alpha_mask(const ImageRGBAF& img) {
 // (surfel_environment_reference.hpp: what the map keeps always wins over the keyframe).
 constexpr float kFusionRegionRadiusM = 0.5f;
 
-// The fusion's side of the light stage (issue #21 items 1 + 5 in their CPU references): the
-// surfel map fed every RGB-D frame with its truth pose, and the environment per snapshot.
+// The fusion's side of the light stage (issue #21 items 1 + 5): the surfel map fed every RGB-D
+// frame with its truth pose (the CPU reference, or the device map on a context of its own),
+// and the environment per snapshot (the CPU reference).
 struct Fusion {
-  fusion::SurfelMap map;                                  // its region centre is the sphere's
+  std::optional<fusion::SurfelMap> reference;  // FusionMap::Reference
+  std::unique_ptr<ComputeContext> context;     // FusionMap::Device
+  std::optional<fusion::SurfelMapDevice> device;
   std::optional<std::array<float, 3>> radiance_per_unit;  // empty: no exposure estimate yet
   std::int64_t frame = 0;
+  fusion::SurfelMapParams params;  // its region centre is the sphere's
 
-  explicit Fusion(const Eigen::Vector3d& c) : map(params(c)) {}
-  static fusion::SurfelMapParams params(const Eigen::Vector3d& c) {
+  Fusion(const Eigen::Vector3d& c, FusionMap map) : params(region_params(c)) {
+    if (map == FusionMap::Reference) {
+      reference.emplace(params);
+    } else {
+      context = std::make_unique<ComputeContext>();
+      device.emplace(*context, params);
+    }
+  }
+  static fusion::SurfelMapParams region_params(const Eigen::Vector3d& c) {
     fusion::SurfelMapParams p;
     p.region_centre = c.cast<float>();
     p.region_radius_m = kFusionRegionRadiusM;
@@ -86,18 +100,27 @@ struct Fusion {
   void integrate(const RgbdFrame& f, const RigCalibration& calibration) {
     const std::int64_t index = frame++;
     if (!radiance_per_unit || !f.truth || !f.truth->rig_pose) return;
-    map.integrate(f.depth, f.colour, *radiance_per_unit, calibration.rgb.intrinsics(),
-                  *f.truth->rig_pose * calibration.T_rig_rgb, index);
+    const Pose T_world_rgb = *f.truth->rig_pose * calibration.T_rig_rgb;
+    if (reference)
+      reference->integrate(f.depth, f.colour, *radiance_per_unit, calibration.rgb.intrinsics(),
+                           T_world_rgb, index);
+    else
+      device->integrate(f.depth, f.colour, *radiance_per_unit, calibration.rgb.intrinsics(),
+                        T_world_rgb, index);
   }
   // Thesis 6.2.7: the keyframe at the object's position (the snapshot, reprojected to the
   // light point = the sphere's centre through the room box), then all the surfels over it.
-  LightSnapshot environment(const LightSnapshot& snap) const {
+  LightSnapshot environment(const LightSnapshot& snap) {
     LightSnapshot out = snap;
     out.environment.reset();  // made from the keyframe alone; the judge makes its own
     fusion::SurfelEnvironmentOptions options;
     options.max_distance_m = kFusionRegionRadiusM;
-    fusion::render_surfels_into_environment(map.surfels(), map.params().region_centre, out.texels,
-                                            options);
+    if (reference)
+      fusion::render_surfels_into_environment(reference->surfels(), params.region_centre,
+                                              out.texels, options);
+    else
+      fusion::render_surfels_into_environment(device->download(), params.region_centre, out.texels,
+                                              options);
     return out;
   }
 };
@@ -130,7 +153,7 @@ std::vector<Snapshot> run_light_stage(const MovingSceneEvalOptions& o,
   std::uint64_t seen_version = 0;
   bool have_camera = false;
   std::optional<Fusion> fusion;
-  if (source == EnvironmentSource::SurfelFusion) fusion.emplace(truth.centre);
+  if (source == EnvironmentSource::SurfelFusion) fusion.emplace(truth.centre, o.fusion_map);
   for (int i = 0; i < frames; ++i) {
     feed.step([&](const RgbdFrame& rgbd) {
       if (fusion) fusion->integrate(rgbd, rig.calibration);
@@ -256,6 +279,10 @@ const char* to_string(EnvironmentSource source) {
   return "?";
 }
 
+const char* to_string(FusionMap map) {
+  return map == FusionMap::Device ? "device" : "reference";
+}
+
 bool implemented(EnvironmentSource source) {
   switch (source) {
     case EnvironmentSource::ColourFillRoomBox:
@@ -337,6 +364,7 @@ MovingSceneReport evaluate_moving_scene(const MovingSceneEvalOptions& o) {
   report.judged_from_s = kJudgeFromS;
   report.without_fusion = judge(o, spec, EnvironmentSource::ColourFillRoomBox, truth, renderer);
   report.fusion_implemented = implemented(EnvironmentSource::SurfelFusion);
+  report.fusion_map = o.fusion_map;
   // Were the fusion not implemented its column would be today's method, said so in the report
   // (the run is deterministic, so running today's method twice would give the same numbers).
   report.with_fusion = report.fusion_implemented

@@ -32,6 +32,9 @@ enum class EnvironmentSource {
   SurfelFusion,
 };
 const char* to_string(EnvironmentSource source);
+// The surfel map behind SurfelFusion (both with truth poses, the environment on the CPU).
+enum class FusionMap { Reference, Device };
+const char* to_string(FusionMap map);  // "reference", "device"
 bool implemented(EnvironmentSource source);
 
 struct MovingSceneEvalOptions {
@@ -40,6 +43,10 @@ struct MovingSceneEvalOptions {
   ServiceConfig config;  // objects, [light]; its source must be the sim
   int truth_supersample = 2;
   int sphere_image_size = 256;
+  // Which surfel map the SurfelFusion column runs: the CPU reference, or the OpenCL map
+  // (kernels/fusion/surfel_map.hpp) on a context of its own (docs/fusion.md "The device map in
+  // the judge").
+  FusionMap fusion_map = FusionMap::Reference;
   // Non-empty: DIR/<scene>_<source>_<arrival|removal>.png, the sphere (captured | truth |
   // difference x4) at the first snapshot 0.5 s or more after each event.
   std::string dump_dir;
@@ -91,6 +98,7 @@ struct MovingSceneReport {
   SceneMetrics with_fusion;     // EnvironmentSource::SurfelFusion, or today's in its place
   SceneMetrics without_fusion;  // EnvironmentSource::ColourFillRoomBox
   bool fusion_implemented = false;
+  FusionMap fusion_map = FusionMap::Reference;
   double judged_from_s = 0;
 };
 

@@ -33,6 +33,16 @@ TEST(EvalRenderScene, AnUnknownSceneIsAnErrorNamingTheValidOnes) {
                           {"eval", "render", "--scene", "box_slides", "--orbit", "3"}, &out, 60s);
   EXPECT_NE(rc2, 0);
   EXPECT_NE(out.find("do not apply"), std::string::npos) << out;
+  // The fusion column's map is the reference or the device's, and only a scene has one.
+  const int rc3 = testing::run_to_end(
+      testing::probeless_binary(),
+      {"eval", "render", "--scene", "box_slides", "--fusion-map", "gpu"}, &out, 60s);
+  EXPECT_NE(rc3, 0);
+  EXPECT_NE(out.find("unknown --fusion-map 'gpu' (reference, device)"), std::string::npos) << out;
+  const int rc4 = testing::run_to_end(testing::probeless_binary(),
+                                      {"eval", "render", "--fusion-map", "device"}, &out, 60s);
+  EXPECT_NE(rc4, 0);
+  EXPECT_NE(out.find("--fusion-map applies to a --scene only"), std::string::npos) << out;
 }
 
 }  // namespace
