@@ -4,9 +4,12 @@
 // looking straight down, and a box standing on it.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <stdexcept>
+#include <string>
 
 #include "core/camera/pinhole.hpp"
 #include "core/image.hpp"
@@ -76,6 +79,20 @@ inline View render(const Pose& T_world_camera, const std::optional<AlignedBox>& 
       for (int c = 0; c < 3; ++c) v.colour.at(x, y, c) = grey;
     }
   return v;
+}
+
+// What integrate() of either map (the reference or the device's) says of a frame: the
+// std::invalid_argument's message, or "no throw".
+template <typename Map>
+std::string integrate_error(Map& map, const DepthImage& depth, const ImageRGB8& colour,
+                            std::array<float, 3> radiance_per_unit, const PinholeIntrinsics& k,
+                            const Pose& T_world_camera) {
+  try {
+    map.integrate(depth, colour, radiance_per_unit, k, T_world_camera, 0);
+  } catch (const std::invalid_argument& error) {
+    return error.what();
+  }
+  return "no throw";
 }
 
 }  // namespace probeless::testing

@@ -340,12 +340,7 @@ TEST(SurfelMapDevice, SizesThatDoNotMatchTheIntrinsicsThrow) {
   EXPECT_NO_THROW(map.integrate(v.depth, v.colour, {1, 1, 1}, k, v.T_world_camera, 0));
   const auto message = [&](const DepthImage& d, const ImageRGB8& c, std::array<float, 3> e,
                            const PinholeIntrinsics& ki) {
-    try {
-      map.integrate(d, c, e, ki, v.T_world_camera, 0);
-    } catch (const std::invalid_argument& error) {
-      return std::string(error.what());
-    }
-    return std::string("no throw");
+    return testing::integrate_error(map, d, c, e, ki, v.T_world_camera);
   };
   EXPECT_EQ(message(DepthImage(32, 48), v.colour, {1, 1, 1}, k),
             "SurfelMapDevice::integrate: depth is 32x48, intrinsics say 64x48");
