@@ -299,7 +299,6 @@ __kernel void splat_surfels(__global const float* restrict splats,
 #define TW 16
 typedef ulong16 __attribute__((aligned(8))) ul16_unaligned;
 typedef uint16 __attribute__((aligned(4))) u16_unaligned;
-typedef float16 __attribute__((aligned(4))) f16_unaligned;
 typedef uchar16 __attribute__((aligned(1))) uc16_unaligned;
 
 // The surfel texel (x, y) of the face starting at row face_row0 shows after the dilate: a
@@ -376,10 +375,10 @@ __kernel void dilate(__global const ulong* restrict keys, __global uint* restric
 
 // A covered texel shows its surfel (radiance, alpha 1, observed); a dilated one too if every
 // 8-neighbour on its face is covered or dilated (the erode: neighbours across a face edge count
-// as not, as the reference's); any other the keyframe's texel.
+// as not, as the reference's); any other keeps the keyframe's texel (in place, unwritten).
 inline void resolve_texel(__global const uint* source, __global const float* planes, ulong cap,
-                          __global const float* keyframe, __global float* out,
-                          __global uchar* codes, int n, int face_row0, int x, int y) {
+                          __global float* texels, __global uchar* codes, int n, int face_row0,
+                          int x, int y) {
   const size_t k = (size_t)(face_row0 + y) * n + x;
   const uint s = source[k];
   bool shown = s != NO_SURFEL;
@@ -391,20 +390,19 @@ inline void resolve_texel(__global const uint* source, __global const float* pla
                 source[(size_t)(face_row0 + yy) * n + xx] != NO_SURFEL;
       }
   if (!shown) {
-    vstore4(vload4(k, keyframe), k, out);
     codes[k] = CODE_KEYFRAME;
     return;
   }
   const size_t i = s & ~DILATED_BIT;
   vstore4((float4)(planes[P_RAD_R * cap + i], planes[P_RAD_G * cap + i], planes[P_RAD_B * cap + i],
                    1.0f),
-          k, out);
+          k, texels);
   codes[k] = (s & DILATED_BIT) ? CODE_FILLED : CODE_COVERED;
 }
 
 __kernel void resolve(__global const uint* restrict source, __global const float* restrict planes,
-                      ulong cap, __global const float* restrict keyframe,
-                      __global float* restrict out, __global uchar* restrict codes, int n) {
+                      ulong cap, __global float* restrict texels, __global uchar* restrict codes,
+                      int n) {
   const int x0 = get_global_id(0) * TW, row = get_global_id(1);
   if (x0 >= n || row >= 6 * n) return;
   const int y = row % n, face_row0 = row - y;
@@ -412,9 +410,6 @@ __kernel void resolve(__global const uint* restrict source, __global const float
   if (x0 + TW <= n) {
     const uint16 s = *(__global const u16_unaligned*)(source + base);
     if (all(s == (uint16)(NO_SURFEL))) {  // the keyframe's 16 texels as they are
-      for (int q = 0; q < 4; ++q)
-        *(__global f16_unaligned*)(out + 4 * base + 16 * q) =
-            *(__global const f16_unaligned*)(keyframe + 4 * base + 16 * q);
       *(__global uc16_unaligned*)(codes + base) = (uchar16)(CODE_KEYFRAME);
       return;
     }
@@ -424,12 +419,12 @@ __kernel void resolve(__global const uint* restrict source, __global const float
       for (int l = 0; l < TW; ++l)
         vstore4((float4)(planes[P_RAD_R * cap + t[l]], planes[P_RAD_G * cap + t[l]],
                          planes[P_RAD_B * cap + t[l]], 1.0f),
-                base + l, out);
+                base + l, texels);
       *(__global uc16_unaligned*)(codes + base) = (uchar16)(CODE_COVERED);
       return;
     }
   }
   const int x1 = min(x0 + TW, n);
   for (int x = x0; x < x1; ++x)
-    resolve_texel(source, planes, cap, keyframe, out, codes, n, face_row0, x, y);
+    resolve_texel(source, planes, cap, texels, codes, n, face_row0, x, y);
 }

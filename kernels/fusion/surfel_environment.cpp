@@ -140,13 +140,11 @@ void SurfelEnvironmentDevice::ensure_texel_buffers(int n) {
 }
 
 void SurfelEnvironmentDevice::render(const SurfelPlanes& surfels, const Eigen::Vector3f& centre,
-                                     const DeviceTexels& keyframe, DeviceTexels& out,
+                                     DeviceTexels& texels,
                                      const SurfelEnvironmentOptions& options) {
-  const int n = checked_face_size(keyframe.width(), keyframe.height());
+  const int n = checked_face_size(texels.width(), texels.height());
   check_options(options);
   check_planes(surfels);
-  if (&keyframe == &out)
-    throw std::invalid_argument("SurfelEnvironmentDevice::render: out is the keyframe");
   ensure_texel_buffers(n);
   const std::size_t count = surfels.count;
   if (count > drawn_capacity_) {
@@ -157,11 +155,10 @@ void SurfelEnvironmentDevice::render(const SurfelPlanes& surfels, const Eigen::V
     reaches_ = ::cl::Buffer(ctx_.context(), CL_MEM_READ_WRITE, drawn_capacity_ * sizeof(cl_int));
   }
   last_count_ = count;
-  out.resize(ctx_.context(), n, 6 * n);
 
   auto& q = ctx_.queue();
-  const std::size_t texels = std::size_t{6} * n * n;
-  q.enqueueFillBuffer(keys_, ~cl_ulong{0}, 0, texels * sizeof(cl_ulong));
+  const std::size_t texel_count = std::size_t{6} * n * n;
+  q.enqueueFillBuffer(keys_, ~cl_ulong{0}, 0, texel_count * sizeof(cl_ulong));
   if (count > 0) {
     // A capped splat's cos and tan as the reference computes them (std::).
     const float max_splat = options.max_splat_rad;
@@ -181,8 +178,8 @@ void SurfelEnvironmentDevice::render(const SurfelPlanes& surfels, const Eigen::V
   run_rows(ctx_, dilate_, n);
   // With no surfels the resolve reads no plane, but it needs a buffer to bind.
   const ::cl::Buffer& planes = count > 0 ? surfels.floats : keys_;
-  set_args(resolve_, source_, planes, static_cast<cl_ulong>(surfels.capacity), keyframe.buffer(),
-           out.buffer(), codes_, cl_int{n});
+  set_args(resolve_, source_, planes, static_cast<cl_ulong>(surfels.capacity), texels.buffer(),
+           codes_, cl_int{n});
   run_rows(ctx_, resolve_, n);
 }
 
@@ -191,13 +188,9 @@ SurfelEnvironmentStats SurfelEnvironmentDevice::render(const SurfelPlanes& surfe
                                                        envmap::ImageRGBAF& texels,
                                                        const SurfelEnvironmentOptions& options) {
   checked_face_size(texels.width(), texels.height());
-  {
-    // Read in place; the wrap is released before the download writes the same memory.
-    const DeviceTexels keyframe = DeviceTexels::wrap_host(ctx_.context(), texels);
-    render(surfels, centre, keyframe, host_out_, options);
-    ctx_.queue().finish();
-  }
-  host_out_.download(ctx_.queue(), texels);
+  host_texels_.upload(ctx_.queue(), texels);
+  render(surfels, centre, host_texels_, options);
+  host_texels_.download(ctx_.queue(), texels);
   return last_stats();
 }
 

@@ -37,14 +37,15 @@ class SurfelEnvironmentDevice {
   SurfelEnvironmentDevice(const SurfelEnvironmentDevice&) = delete;
   SurfelEnvironmentDevice& operator=(const SurfelEnvironmentDevice&) = delete;
 
-  // The environment seen from `centre` (world): `keyframe` (n x 6n) with `surfels` (the
-  // device map's planes, SurfelMapDevice::planes(), read in place) splatted over it, into
-  // `out` (resized; it must not be `keyframe`). Enqueues on the context's queue and does not
-  // wait. Throws std::invalid_argument for texels not n x 6n (1 <= n <= kMaxFaceSize),
-  // options out of range (the reference's checks), planes shorter than their count or more
-  // than 2^31 - 1 surfels, before it enqueues anything.
-  void render(const SurfelPlanes& surfels, const Eigen::Vector3f& centre,
-              const DeviceTexels& keyframe, DeviceTexels& out,
+  // The environment seen from `centre` (world), in place as the reference's: `texels` (n x
+  // 6n, the keyframe seen from there) with `surfels` (the device map's planes,
+  // SurfelMapDevice::planes(), read in place) splatted over it; only the covered and filled
+  // texels are written (a caller that keeps its keyframe copies it first: a 3.5 MB copy at 192
+  // px, which the resolve pass used to do and which was half its cost). Enqueues on the
+  // context's queue and does not wait. Throws std::invalid_argument for texels not n x 6n (1 <=
+  // n <= kMaxFaceSize), options out of range (the reference's checks), planes shorter than their
+  // count or more than 2^31 - 1 surfels, before it enqueues anything.
+  void render(const SurfelPlanes& surfels, const Eigen::Vector3f& centre, DeviceTexels& texels,
               const SurfelEnvironmentOptions& options = {});
   // The reference's signature: host surfels (uploaded) and host texels, changed in place as
   // render_surfels_into_environment() changes them. Waits for the device.
@@ -74,7 +75,7 @@ class SurfelEnvironmentDevice {
   // distance, centre texel), its window's reach, drawn or not (the stats' surfels_drawn).
   ::cl::Buffer splats_, reaches_, drawn_;
   std::size_t drawn_capacity_ = 0, last_count_ = 0;
-  DeviceTexels host_out_;  // the host overloads' output
+  DeviceTexels host_texels_;  // the host overloads' copy of their texels
 };
 
 }  // namespace probeless::fusion
