@@ -4,7 +4,7 @@
 // device map, read in place, splatted over the keyframe's texels as seen from the object's
 // centre, then the dilate/erode gap fill, with the CPU reference's rules, options and
 // arithmetic (surfel_environment_reference.hpp), so that the two agree texel for texel except
-// where the device's atan/cos/tan round a splat's edge the other way (the tests' tolerance).
+// where the device's atan and cos round a splat's edge the other way (the tests' tolerance).
 #include <CL/opencl.hpp>
 #include <cstddef>
 #include <cstdint>
@@ -27,8 +27,9 @@ SurfelPlanes upload_surfel_planes(ComputeContext& ctx, const std::vector<Surfel>
 
 class SurfelEnvironmentDevice {
  public:
-  // The largest face it takes: the per-texel buffers are 6 n^2 x 41 bytes (64 MB at 512), twice
-  // the largest keyframe measured (docs/light-capture.md: the service's 192, 256 tried).
+  // The largest face it takes: its per-texel buffers are 25 bytes a texel (key 8, source 4,
+  // code 1, direction 12; 39 MB at 512, 5.5 MB at 192), and 512 is twice the largest keyframe
+  // measured (docs/light-capture.md: the service's 192, 256 tried).
   static constexpr int kMaxFaceSize = 512;
 
   // Builds the program. Throws std::runtime_error on a device without 64-bit atomics (the

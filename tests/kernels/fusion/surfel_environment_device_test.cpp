@@ -134,6 +134,19 @@ TEST(SurfelEnvironmentDevice, TheReferencesUnitCasesExactly) {
   // its far texels are looked up on face 4.
   expect_as_reference({surfel(Eigen::Vector3f(0.3f, 0.0f, 0.29f), 0.08f, 4, 3, 2)}, kCentre,
                       background(), d, "a disc across faces", true);
+  {
+    envmap::ImageRGBAF t = background();
+    device().render({surfel(Eigen::Vector3f(0.3f, 0.0f, 0.29f), 0.08f, 4, 3, 2)}, kCentre, t);
+    const auto changed = [&](int face) {
+      int c = 0;
+      for (int y = 0; y < kN; ++y)
+        for (int x = 0; x < kN; ++x) c += t.at(x, face * kN + y, 3) == 1.0f ? 1 : 0;
+      return c;
+    };
+    EXPECT_GT(changed(0), 0) << "the centre's face";
+    EXPECT_GT(changed(4), 0) << "over the edge onto +z";
+    for (const int f : {1, 2, 3, 5}) EXPECT_EQ(changed(f), 0) << "face " << f;
+  }
   const Surfel near = surfel({0.1f, 0, 0}, 0.002f, 1, 0, 0);
   const Surfel far = surfel({0.4f, 0, 0}, 0.02f, 0, 0, 1);
   expect_as_reference({near, far}, kCentre, background(), d, "near then far", true);
