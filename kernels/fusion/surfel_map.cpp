@@ -12,7 +12,8 @@
 namespace probeless::fusion {
 namespace {
 
-constexpr std::size_t kFloatPlanes = 11;  // surfel_map.cl's FLOAT_PLANES
+constexpr std::size_t kFloatPlanes = SurfelPlanes::kPlanes;  // surfel_map.cl's FLOAT_PLANES
+static_assert(kFloatPlanes == 11);
 // Surfels a work-item of the compaction and the keep rules walks in order: 256 keeps the scan
 // over blocks short (~90 blocks for the sim's 23 000 surfels) and gives each of PoCL's
 // workers several blocks.

@@ -21,6 +21,29 @@
 
 namespace probeless::fusion {
 
+// The device map's surfels as other kernels read them in place (the per-object environment,
+// surfel_environment.hpp): one float buffer of planes, surfel i's value of plane p at
+// p * capacity + i (surfel_map.cl's P_X ... RAD_B), surfels 0 .. count - 1 in the map's order.
+struct SurfelPlanes {
+  enum Plane : int {
+    kX = 0,
+    kY,
+    kZ,
+    kNormalX,
+    kNormalY,
+    kNormalZ,
+    kRadius,
+    kConfidence,
+    kRadianceR,
+    kRadianceG,
+    kRadianceB,
+    kPlanes
+  };
+  ::cl::Buffer floats;
+  std::size_t capacity = 0;
+  std::size_t count = 0;
+};
+
 class SurfelMapDevice {
  public:
   // Builds the programs (the first frame does not compile). Throws std::invalid_argument for
@@ -50,6 +73,10 @@ class SurfelMapDevice {
   // The map as the reference's surfels, in the device's order (blocking read).
   std::vector<Surfel> download();
   std::size_t size() const { return count_; }
+  // The map's own buffer, read-only to the caller: enqueue its readers on this context's
+  // (in-order) queue before the next integrate() in host order, which may swap or regrow the
+  // copy these planes name; the commands already enqueued still see this frame's map.
+  SurfelPlanes planes() const { return {sets_[current_].floats, sets_[current_].capacity, count_}; }
   const SurfelMapParams& params() const { return params_; }
 
  private:

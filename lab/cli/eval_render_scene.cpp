@@ -116,7 +116,7 @@ void run_eval_render_scene(const SceneCommandOptions& c) {
       r.scene, r.without_fusion.fisheye_frames, r.judged_from_s);
   print(r.without_fusion, fmt::format("without fusion ({})", to_string(r.without_fusion.source)));
   if (r.fusion_implemented)
-    print(r.with_fusion, fmt::format("with fusion ({}: the {} surfel map and the CPU per-object "
+    print(r.with_fusion, fmt::format("with fusion ({}: the {} surfel map and per-object "
                                      "environment, truth poses; not the service's path)",
                                      to_string(r.with_fusion.source),
                                      r.fusion_map == eval::FusionMap::Device ? "OpenCL" : "CPU"));
@@ -131,7 +131,7 @@ void run_eval_render_scene(const SceneCommandOptions& c) {
       // "implemented" in the judge by the CPU references (truth poses), not in the service.
       {"fusion", !r.fusion_implemented ? "not implemented"
                  : r.fusion_map == eval::FusionMap::Device
-                     ? "implemented (opencl map, cpu environment, truth poses)"
+                     ? "implemented (opencl map and environment, truth poses)"
                      : "implemented (cpu reference, truth poses)"},
       {"fusion_map", to_string(r.fusion_map)},
       {"environment_source", to_string(f.source)},

@@ -13,6 +13,7 @@
 #include "app/pipeline/scene_objects.hpp"
 #include "app/render/renderer.hpp"
 #include "drivers/sim/sim_rig.hpp"
+#include "kernels/fusion/surfel_environment.hpp"
 #include "kernels/fusion/surfel_environment_reference.hpp"
 #include "kernels/fusion/surfel_map.hpp"
 #include "kernels/fusion/surfel_map_reference.hpp"
@@ -72,11 +73,13 @@ constexpr float kFusionRegionRadiusM = 0.5f;
 
 // The fusion's side of the light stage (issue #21 items 1 + 5): the surfel map fed every RGB-D
 // frame with its truth pose (the CPU reference, or the device map on a context of its own),
-// and the environment per snapshot (the CPU reference).
+// and the environment per snapshot (the CPU reference's; with the device map the device's, from
+// the map's planes in place).
 struct Fusion {
   std::optional<fusion::SurfelMap> reference;  // FusionMap::Reference
   std::unique_ptr<ComputeContext> context;     // FusionMap::Device
   std::optional<fusion::SurfelMapDevice> device;
+  std::optional<fusion::SurfelEnvironmentDevice> device_environment;
   std::optional<std::array<float, 3>> radiance_per_unit;  // empty: no exposure estimate yet
   std::int64_t frame = 0;
   fusion::SurfelMapParams params;  // its region centre is the sphere's
@@ -87,6 +90,7 @@ struct Fusion {
     } else {
       context = std::make_unique<ComputeContext>();
       device.emplace(*context, params);
+      device_environment.emplace(*context);
     }
   }
   static fusion::SurfelMapParams region_params(const Eigen::Vector3d& c) {
@@ -119,8 +123,7 @@ struct Fusion {
       fusion::render_surfels_into_environment(reference->surfels(), params.region_centre,
                                               out.texels, options);
     else
-      fusion::render_surfels_into_environment(device->download(), params.region_centre, out.texels,
-                                              options);
+      device_environment->render(device->planes(), params.region_centre, out.texels, options);
     return out;
   }
 };

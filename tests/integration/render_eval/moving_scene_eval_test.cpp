@@ -42,10 +42,11 @@ TEST(MovingSceneEval, BoxRemovedEndToEnd) {
   EXPECT_LT(m.whole_sphere_rel_rmse, 0.2);
 }
 
-// The fusion column with the OpenCL map (kernels/fusion/surfel_map.hpp) judges as with the
-// CPU reference: the device map is the reference's surfel for surfel up to float rounding
-// (tests/kernels/fusion: positions within 3e-9 m on the sim), so the numbers agree to 1e-6
-// relative (they came out identical at full size, docs/fusion.md).
+// The fusion column with the OpenCL map and environment (kernels/fusion/surfel_map.hpp,
+// surfel_environment.hpp) judges as with the CPU references: the device map is the reference's
+// surfel for surfel up to float rounding (tests/kernels/fusion: positions within 3e-9 m on the
+// sim) and the device environment the reference's texel for texel on the tests' scenes, so the
+// numbers agree to 1e-6 relative (they came out identical at full size, docs/fusion.md).
 TEST(MovingSceneEval, TheDeviceMapJudgesAsTheReference) {
   MovingSceneEvalOptions o;
   o.scene = sim::MovingScene::BoxRemoved;
