@@ -14,6 +14,7 @@
 #include "core/camera/pinhole.hpp"
 #include "core/image.hpp"
 #include "core/pose.hpp"
+#include "kernels/fusion/surfel_map_params.hpp"
 
 namespace probeless::testing {
 
@@ -79,6 +80,18 @@ inline View render(const Pose& T_world_camera, const std::optional<AlignedBox>& 
       for (int c = 0; c < 3; ++c) v.colour.at(x, y, c) = grey;
     }
   return v;
+}
+
+// A surfel `offset` from `centre`, facing it: what an environment rendered at `centre` sees
+// face-on.
+inline fusion::Surfel facing_surfel(const Eigen::Vector3f& centre, const Eigen::Vector3f& offset,
+                                    float radius, const std::array<float, 3>& radiance) {
+  fusion::Surfel s;
+  s.position = centre + offset;
+  s.normal = -offset.normalized();
+  s.radius = radius;
+  s.radiance = radiance;
+  return s;
 }
 
 // What integrate() of either map (the reference or the device's) says of a frame: the

@@ -63,12 +63,7 @@ envmap::ImageRGBAF patterned(int n, std::mt19937& rng) {
 }
 
 Surfel surfel(const Eigen::Vector3f& offset, float radius, float r, float g, float b) {
-  Surfel s;
-  s.position = kCentre + offset;
-  s.normal = -offset.normalized();
-  s.radius = radius;
-  s.radiance = {r, g, b};
-  return s;
+  return testing::facing_surfel(kCentre, offset, radius, {r, g, b});
 }
 
 std::size_t differing_texels(const envmap::ImageRGBAF& a, const envmap::ImageRGBAF& b) {

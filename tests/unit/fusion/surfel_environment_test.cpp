@@ -10,6 +10,7 @@
 #include <cstdio>
 
 #include "kernels/fusion/surfel_environment_reference.hpp"
+#include "support/surfel_scenes.hpp"
 
 namespace probeless::fusion {
 namespace {
@@ -28,12 +29,7 @@ envmap::ImageRGBAF background() {
 }
 
 Surfel surfel(const Eigen::Vector3f& offset, float radius, float r, float g, float b) {
-  Surfel s;
-  s.position = kCentre + offset;
-  s.normal = -offset.normalized();
-  s.radius = radius;
-  s.radiance = {r, g, b};
-  return s;
+  return testing::facing_surfel(kCentre, offset, radius, {r, g, b});
 }
 
 bool is_background(const envmap::ImageRGBAF& t, int face, int x, int y) {
