@@ -228,9 +228,12 @@ CvfLocalTrace cvf_local_reference(const ImageRGB8& colour, const DepthImage& sen
   if (sensor_depth_mm.width() != w || sensor_depth_mm.height() != h ||
       virtual_depth_mm.width() != w || virtual_depth_mm.height() != h)
     throw std::invalid_argument("cvf_local_reference: colour and depth sizes differ");
-  // Wide holes are near occluders (hole_core_reference.hpp); every step below sees them so.
+  // Wide holes are near occluders (hole_core_reference.hpp), with their rims unless
+  // rim_in_front is off; every step below sees them so.
+  const int core_r = hole_core_radius(params.hole_core_px, w);
   const DepthImage real_depth_mm =
-      fill_hole_cores_reference(sensor_depth_mm, hole_core_radius(params.hole_core_px, w), &colour);
+      params.rim_in_front ? mark_near_occluders_reference(sensor_depth_mm, core_r, &colour)
+                          : fill_hole_cores_reference(sensor_depth_mm, core_r, &colour);
   const CvfParams& p = params.cvf;
   CvfLocalTrace t;
   t.categories = categorise_reference(real_depth_mm, virtual_depth_mm, p.categorise);

@@ -137,7 +137,7 @@ CvfMatte::CvfMatte(ComputeContext& ctx, const CvfLocalParams& lp, bool local, bo
 }
 
 const DeviceImage<std::uint16_t, 1>* CvfMatte::judged_depth() {
-  if (cores_run_ && !judged_depth_) judged_depth_ = &hole_cores_->mark_near_occluders();
+  if (cores_run_ && !judged_depth_) judged_depth_ = &hole_cores_->mark_near_occluders(colour_);
   return judged_depth_;
 }
 
@@ -166,6 +166,12 @@ void CvfMatte::process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) 
     inputs.real_depth_mm =
         &hole_cores_->run(*in.real_depth_mm, hole_core_radius(params_.hole_core_px, in.width()),
                           in.colour, near_ ? std::nullopt : in.objects);
+    colour_ = in.colour;
+    if (params_.rim_in_front) {
+      // The rim that takes the core's colour is in front too: CVF judges by the same marked
+      // depth that it hands the stabiliser (judged_depth()).
+      judged_depth_ = inputs.real_depth_mm = &hole_cores_->mark_near_occluders(in.colour);
+    }
     stage_done("hole cores");
   }
   if (layout_ == CvfLayout::Tiles) {

@@ -71,8 +71,9 @@ class CvfMatte final : public OcclusionMethod {
   CvfLayout layout() const { return layout_; }
   std::string name() const override { return local_ ? "cvf" : "cvf_thesis"; }
   void process(const OcclusionInputs& in, DeviceImage<float, 1>& alpha) override;
-  // With hole_core_px > 0: the depth with every near occluder (cores and the holes around
-  // them) marked, HoleCoreFill::mark_near_occluders().
+  // With hole_core_px > 0: the depth with every near occluder (cores and the rims that take
+  // their colour) marked, HoleCoreFill::mark_near_occluders(); with rim_in_front (the default)
+  // the depth CVF judged by itself.
   const DeviceImage<std::uint16_t, 1>* judged_depth() override;
 
   // The common part (categories, band, models, filters); local_params() has the rest.
@@ -130,6 +131,7 @@ class CvfMatte final : public OcclusionMethod {
   std::optional<NearOccluder> near_;        // cvf with near_occluders (issue #19 item 4)
   std::optional<HoleCoreFill> hole_cores_;  // cvf with hole_core_px > 0 (issue #19 item 4)
   bool cores_run_ = false;                  // the last process() ran the hole cores
+  const DeviceImage<std::uint8_t, 3>* colour_ = nullptr;         // the last process()'s
   const DeviceImage<std::uint16_t, 1>* judged_depth_ = nullptr;  // marked, once asked
   ::cl::Kernel histogram_, cost_pack_, mask_pack_;
   std::optional<GuidedFilter> tile_wide_, tile_feather_;

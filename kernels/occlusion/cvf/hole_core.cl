@@ -128,9 +128,11 @@ __kernel void hole_core_rows(__global const ushort* depth, __global uchar* rows,
 // at a time. Only columns [x_begin, x_end) and rows [y_begin, y_end) are written (the pixels
 // the stages after need, HoleCoreFill::run()); `rows` must hold rows y_begin - r - 1 ..
 // y_end + r.
+// With need_all (the cores' pass), core_rows[y] = 1 for every row y that got a core (the rim's
+// passes skip the rows far from any; the host zeroes the flags, every writer writes 1).
 __kernel void hole_core_fill(__global const ushort* depth, __global const uchar* rows,
                              __global ushort* out, int w, int h, int r, int need_all, int x_begin,
-                             int x_end, int y_begin, int y_end) {
+                             int x_end, int y_begin, int y_end, __global uchar* core_rows) {
   const int x0 = x_begin + get_global_id(0) * 16;
   if (x0 >= x_end) return;
   // n: the count over rows [y_begin - r - 1, y_begin + r - 1] (clipped), what the step of
@@ -147,6 +149,7 @@ __kernel void hole_core_fill(__global const ushort* depth, __global const uchar*
         const ushort d = depth[y * w + x];
         const int near = window_rule(n, span, need_all) && (d == 0 || d == NEAR_MM);
         out[y * w + x] = near ? (ushort)NEAR_MM : d;
+        if (near && need_all) core_rows[y] = 1;
       }
     }
     return;
@@ -161,5 +164,148 @@ __kernel void hole_core_fill(__global const ushort* depth, __global const uchar*
     const ushort16 d = vload16(0, depth + y * w + x0);
     const short16 unknown = as_short16(d == (ushort16)(0)) | as_short16(d == (ushort16)(NEAR_MM));
     vstore16(select(d, (ushort16)(NEAR_MM), as_ushort16(rule & unknown)), 0, out + y * w + x0);
+    if (need_all && any(rule & unknown)) core_rows[y] = 1;
+  }
+}
+
+// The near occluder's rim that follows it (hole_core_reference.hpp
+// mark_near_occluders_reference() with colour): a hole with a core within r is marked where its
+// colour is nearer the mean colour of those core pixels than the mean colour of the measured
+// pixels within m (none there: within CORE_COLOUR_SQ of the core's mean, a -D option). Two
+// passes as above: along the rows the window sums of the core pixels (r) and of the measured
+// ones (m), then down 16 columns a work-item, where the decision is made. Rows far from any
+// core are skipped (the cores' pass flags its rows): a frame without a near occluder costs
+// next to nothing. A first version over the whole objects' rectangle that also copied the
+// image cost 3.9 CPU-ms a frame in `bench occlusion`, which has no cores (docs/occlusion.md
+// "The rim that follows the occluder").
+
+// One pixel's contribution: core pixel count and colour, measured pixel count and colour.
+inline void rim_terms(__global const ushort* depth, __global const ushort* filled,
+                      __global const uchar* colour, int i, int4* core, int4* meas) {
+  const int4 c = (int4)(1, colour[3 * i], colour[3 * i + 1], colour[3 * i + 2]);
+  *core = filled[i] == NEAR_MM ? c : (int4)(0);
+  *meas = depth[i] != 0 ? c : (int4)(0);
+}
+
+// One work-item per row, columns [x_begin, x_end): sums[8 i .. 8 i + 8) = the core pixels'
+// count and colour sums over [x - r, x + r], then the measured pixels' over [x - m, x + m]
+// (clipped); `filled` is read r px either side. Counts <= 2 r + 1 and colour sums
+// <= 255 (2 r + 1) fit 16 bits for r <= 128.
+__kernel void near_rim_rows(__global const ushort* depth, __global const ushort* filled,
+                            __global const uchar* colour, __global ushort* sums, int w, int h,
+                            int r, int m, int x_begin, int x_end,
+                            __global const uchar* core_rows, __global uchar* rim_rows) {
+  const int y = get_global_id(0);
+  const int row = y * w;
+  // rim_rows[y]: a core within r rows, where near_rim_mark looks for a rim. It reads a row's
+  // sums only for such rows, through windows of max(r, m) rows: nothing more to do where no
+  // core is that near.
+  const int reach = r + max(r, m);
+  int any_core = 0, near_core = 0;
+  for (int j = max(0, y - reach); j <= min(h - 1, y + reach); ++j) {
+    any_core |= core_rows[j];
+    near_core |= core_rows[j] && abs(j - y) <= r;
+  }
+  rim_rows[y] = (uchar)near_core;
+  if (!any_core) return;
+  int4 core = (int4)(0), meas = (int4)(0), a, b;
+  // The windows of x_begin but for their last column, which the first step adds.
+  for (int k = max(0, x_begin - r); k <= min(w - 1, x_begin + r - 1); ++k) {
+    rim_terms(depth, filled, colour, row + k, &a, &b);
+    core += a;
+  }
+  for (int k = max(0, x_begin - m); k <= min(w - 1, x_begin + m - 1); ++k) {
+    rim_terms(depth, filled, colour, row + k, &a, &b);
+    meas += b;
+  }
+  for (int x = x_begin; x < x_end; ++x) {
+    if (x + r < w) {
+      rim_terms(depth, filled, colour, row + x + r, &a, &b);
+      core += a;
+    }
+    if (x > x_begin && x - r - 1 >= 0) {
+      rim_terms(depth, filled, colour, row + x - r - 1, &a, &b);
+      core -= a;
+    }
+    if (x + m < w) {
+      rim_terms(depth, filled, colour, row + x + m, &a, &b);
+      meas += b;
+    }
+    if (x > x_begin && x - m - 1 >= 0) {
+      rim_terms(depth, filled, colour, row + x - m - 1, &a, &b);
+      meas -= b;
+    }
+    vstore8(convert_ushort8((int8)(core, meas)), row + x, sums);
+  }
+}
+
+// The column pass over near_rim_rows' sums and the decision (rim_takes_core_colour() of
+// hole_core_reference.hpp, the same integer and float operations): out = NEAR_MM on the rim
+// that takes the core's colour, else the filled depth. In place (out may be filled: a pixel is
+// read and written by one work-item; the sums were taken before): rows without a core within r
+// are then not touched at all. 16 adjacent columns a work-item
+// (x0 = x_begin + 16 gid; the last group takes what is left). `sums` must hold rows
+// y_begin - max(r, m) .. y_end + max(r, m) - 1 of the columns, `filled` the pixels written.
+__kernel void near_rim_mark(__global const ushort* depth, __global const ushort* filled,
+                            __global const uchar* colour, __global const ushort* sums,
+                            __global ushort* out, int w, int h, int r, int m, int x_begin,
+                            int x_end, int y_begin, int y_end, __global const uchar* rim_rows) {
+  const int x0 = x_begin + get_global_id(0) * 16;
+  if (x0 >= x_end) return;
+  const int n = min(16, x_end - x0);
+  int4 core[16], meas[16];
+  int valid = 0;  // the sums hold the windows of row y - 1
+  for (int y = y_begin; y < y_end; ++y) {
+    // No core within r rows: no rim here, the filled depth as it is (in place: `out` is
+    // `filled`; the windows are counted afresh at the next row that has one).
+    if (!rim_rows[y]) {
+      valid = 0;
+      continue;
+    }
+    if (!valid) {
+      // The windows of row y but for their last row, which the step below adds.
+      for (int k = 0; k < n; ++k) core[k] = meas[k] = (int4)(0);
+      for (int j = max(0, y - r); j <= min(h - 1, y + r - 1); ++j)
+        for (int k = 0; k < n; ++k)
+          core[k] += convert_int4(vload4(0, sums + 8 * (j * w + x0 + k)));
+      for (int j = max(0, y - m); j <= min(h - 1, y + m - 1); ++j)
+        for (int k = 0; k < n; ++k)
+          meas[k] += convert_int4(vload4(0, sums + 8 * (j * w + x0 + k) + 4));
+    }
+    for (int k = 0; k < n; ++k) {
+      const int x = x0 + k;
+      if (y + r < h) core[k] += convert_int4(vload4(0, sums + 8 * ((y + r) * w + x)));
+      if (valid && y - r - 1 >= 0)
+        core[k] -= convert_int4(vload4(0, sums + 8 * ((y - r - 1) * w + x)));
+      if (y + m < h) meas[k] += convert_int4(vload4(0, sums + 8 * ((y + m) * w + x) + 4));
+      if (valid && y - m - 1 >= 0)
+        meas[k] -= convert_int4(vload4(0, sums + 8 * ((y - m - 1) * w + x) + 4));
+      const int i = y * w + x;
+      const ushort f = filled[i];
+      ushort v = f;
+      if (depth[i] == 0 && f != NEAR_MM && core[k].x > 0) {
+        const int c[3] = {colour[3 * i], colour[3 * i + 1], colour[3 * i + 2]};
+        const int cs[3] = {core[k].y, core[k].z, core[k].w};
+        const int ms[3] = {meas[k].y, meas[k].z, meas[k].w};
+        long dc = 0, dm = 0;
+        for (int q = 0; q < 3; ++q) {
+          const long a = (long)core[k].x * c[q] - cs[q];
+          const long b = (long)meas[k].x * c[q] - ms[q];
+          dc += a * a;
+          dm += b * b;
+        }
+        int near;
+        if (meas[k].x == 0) {
+          near = dc < (long)CORE_COLOUR_SQ * core[k].x * core[k].x;
+        } else {
+          const float lhs = (float)dc * (float)(meas[k].x * meas[k].x);
+          const float rhs = (float)dm * (float)(core[k].x * core[k].x);
+          near = lhs < rhs;
+        }
+        if (near) v = (ushort)NEAR_MM;
+      }
+      out[i] = v;
+    }
+    valid = 1;
   }
 }

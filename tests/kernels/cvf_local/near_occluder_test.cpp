@@ -197,6 +197,52 @@ TEST(HoleCore, ReferenceMarksTheRimAroundACore) {
     }
 }
 
+// The rim follows the occluder: a hand-coloured hole with a core, its rim (holes of its colour,
+// beside measured wall on one side) and on the other a band of wall-coloured holes 4 px wide
+// (what the Kinect's window rule leaves beside a depth edge). With the colour only the hand's holes
+// are marked; without, every hole within r of the core, the wall's band too. Device = reference.
+TEST(HoleCore, TheRimTakesTheCoresColourNotTheWalls) {
+  const int w = 640, h = 60, r = 8;  // 640 px: the measured window's radius is 4 px
+  DepthImage d(w, h, std::uint16_t{2000});
+  ImageRGB8 c(w, h);
+  const std::uint8_t wall[3] = {170, 160, 120}, skin[3] = {205, 150, 125};
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> grain(-6, 6);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool hand = x >= 30 && x < 70;
+      const bool wall_band = x >= 70 && x < 74;  // wall holes beside the hand's edge
+      if (hand || wall_band) d.at(x, y) = 0;
+      const std::uint8_t* base = hand ? skin : wall;
+      for (int k = 0; k < 3; ++k)
+        c.at(x, y, k) = static_cast<std::uint8_t>(std::clamp(base[k] + grain(rng), 0, 255));
+    }
+  const DepthImage cores = fill_hole_cores_reference(d, r, &c);
+  const DepthImage old_rule = mark_near_occluders_reference(d, r);
+  const DepthImage rim = mark_near_occluders_reference(d, r, &c);
+  int hand_rim = 0, hand_rim_marked = 0, band = 0, band_old = 0, band_marked = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (d.at(x, y) != 0 || cores.at(x, y) == kNearHoleDepthMm) continue;
+      if (x < 70) ++hand_rim, hand_rim_marked += rim.at(x, y) == kNearHoleDepthMm;
+      if (x >= 70)
+        ++band, band_old += old_rule.at(x, y) == kNearHoleDepthMm,
+            band_marked += rim.at(x, y) == kNearHoleDepthMm;
+    }
+  ASSERT_GT(hand_rim, 100);
+  ASSERT_EQ(band, 4 * h);
+  EXPECT_EQ(band_old, band) << "without colour the wall's band is marked as the hand";
+  EXPECT_EQ(band_marked, 0) << "with colour it is not";
+  EXPECT_EQ(hand_rim_marked, hand_rim) << "the hand's own rim is";
+  auto& ctx = cl_context();
+  HoleCoreFill fill(ctx);
+  const DeviceImage<std::uint16_t, 1> depth_dev(ctx, d);
+  const DeviceImageRGB8 colour_dev(ctx, c);
+  fill.run(depth_dev, r, &colour_dev);
+  EXPECT_TRUE(std::ranges::equal(
+      fill.mark_near_occluders(&colour_dev).download(ctx.queue()).elements(), rim.elements()));
+}
+
 TEST(HoleCore, DeviceEqualsReference) {
   auto& ctx = cl_context();
   for (const int r : {1, 4, 9}) {
@@ -214,6 +260,15 @@ TEST(HoleCore, DeviceEqualsReference) {
     EXPECT_GT(std::count(em.begin(), em.end(), kNearHoleDepthMm),
               std::count(e.begin(), e.end(), kNearHoleDepthMm))
         << "the rim is marked besides the core, r " << r;
+    // With the colour: the rim that takes the core's colour.
+    const DeviceImageRGB8 colour(ctx, s.colour);
+    fill.run(real, r, &colour);
+    const auto got_rim = fill.mark_near_occluders(&colour).download(ctx.queue());
+    const auto want_rim = mark_near_occluders_reference(s.depth, r, &s.colour);
+    ASSERT_TRUE(std::ranges::equal(got_rim.elements(), want_rim.elements())) << "rim, r " << r;
+    EXPECT_GT(std::ranges::count(want_rim.elements(), kNearHoleDepthMm),
+              std::count(e.begin(), e.end(), kNearHoleDepthMm))
+        << "the hand's rim is marked besides the core, r " << r;
   }
   // A width that is no multiple of the column pass's 16 lanes.
   const auto s = near_scene(0.45, 6);
@@ -230,6 +285,25 @@ TEST(HoleCore, DeviceEqualsReference) {
   EXPECT_GT(last_group_cores, 100);
   const auto g = got.elements(), e = want.elements();
   EXPECT_TRUE(std::equal(g.begin(), g.end(), e.begin(), e.end()));
+  {  // The rim with colour, over the whole frame and inside a rectangle (CVF's objects').
+    ImageRGB8 odd_colour(odd.width(), odd.height());
+    for (int y = 0; y < odd.height(); ++y)
+      for (int x = 0; x < odd.width(); ++x)
+        for (int c = 0; c < 3; ++c) odd_colour.at(x, y, c) = s.colour.at(x, y, c);
+    const DeviceImageRGB8 colour(ctx, odd_colour);
+    const auto want_rim = mark_near_occluders_reference(odd, 7, &odd_colour);
+    fill_odd.run(odd_dev, 7, &colour);
+    EXPECT_TRUE(
+        std::ranges::equal(fill_odd.mark_near_occluders(&colour).download(ctx.queue()).elements(),
+                           want_rim.elements()));
+    const PixelRect rect{101, 37, 298, 190};
+    fill_odd.run(odd_dev, 7, &colour, rect);
+    const auto got_rect = fill_odd.mark_near_occluders(&colour).download(ctx.queue());
+    int differ = 0;
+    for (int y = rect.y0; y < rect.y1; ++y)
+      for (int x = rect.x0; x < rect.x1; ++x) differ += got_rect.at(x, y) != want_rim.at(x, y);
+    EXPECT_EQ(differ, 0) << "inside the rectangle";
+  }
   HoleCoreFill fill(ctx);
   const DeviceImage<std::uint16_t, 1> real(ctx, near_scene(0.45, 5).depth);
   EXPECT_THROW(fill.run(real, 0), std::invalid_argument);
@@ -273,6 +347,17 @@ TEST(HoleCore, DeviceEqualsReferenceAtWideRadiiAndRows) {
     const auto want_marked = mark_near_occluders_reference(d, r);
     EXPECT_TRUE(std::ranges::equal(got_marked.elements(), want_marked.elements()))
         << "marked, " << w << "x" << h << " r " << r;
+    // With random colours (the rim's row sums and the decision at every radius; 16-bit sums
+    // take r <= 128).
+    if (r > 128) continue;
+    ImageRGB8 c(w, h);
+    for (auto& v : c.elements()) v = static_cast<std::uint8_t>(rng());
+    const DeviceImageRGB8 colour(ctx, c);
+    fill.run(real, r, &colour);
+    const auto got_rim = fill.mark_near_occluders(&colour).download(ctx.queue());
+    EXPECT_TRUE(
+        std::ranges::equal(got_rim.elements(), mark_near_occluders_reference(d, r, &c).elements()))
+        << "rim, " << w << "x" << h << " r " << r;
   }
 }
 
@@ -317,7 +402,7 @@ TEST(HoleCore, WindowsAndBlackScreensAreNoCores) {
     HoleCoreFill fill(ctx);
     const auto got = fill.run(depth_dev, r, &colour_dev).download(ctx.queue());
     EXPECT_TRUE(std::ranges::equal(got.elements(), want.elements())) << "w " << w;
-    const auto marked = fill.mark_near_occluders().download(ctx.queue());
+    const auto marked = fill.mark_near_occluders(&colour_dev).download(ctx.queue());
     EXPECT_TRUE(
         std::ranges::equal(marked.elements(), mark_near_occluders_reference(d, r, &c).elements()))
         << "marked, w " << w;
@@ -353,8 +438,8 @@ TEST(HoleCore, JudgedDepthIsTheFilledOne) {
   ASSERT_NE(judged, &real);
   ASSERT_EQ(judged, shipped->judged_depth());
   const auto got = judged->download(ctx.queue());
-  const auto want =
-      mark_near_occluders_reference(s.depth, hole_core_radius(CvfLocalParams{}.hole_core_px, 320));
+  const auto want = mark_near_occluders_reference(
+      s.depth, hole_core_radius(CvfLocalParams{}.hole_core_px, 320), &s.colour);
   const auto g = got.elements(), e = want.elements();
   EXPECT_TRUE(std::equal(g.begin(), g.end(), e.begin(), e.end()));
   EXPECT_GT(std::count(e.begin(), e.end(), kNearHoleDepthMm), 2000) << "the hand has a core";
@@ -385,19 +470,33 @@ TEST(HoleCore, DISABLED_CostVga) {
   for (int y = 100; y < 400; ++y)
     for (int x = 300; x < 640; ++x) d.at(x, y) = 0;
   const DeviceImage<std::uint16_t, 1> real(ctx, d);
+  ImageRGB8 c(640, 480);
+  for (auto& v : c.elements()) v = static_cast<std::uint8_t>(rng());
+  const DeviceImageRGB8 colour(ctx, c);
   HoleCoreFill fill(ctx);
-  std::vector<double> ms;
-  for (int i = 0; i < 120; ++i) {
-    ctx.queue().finish();
-    const auto t0 = std::chrono::steady_clock::now();
-    fill.run(real, 20);
-    ctx.queue().finish();
-    if (i >= 20)
-      ms.push_back(
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  // The cores alone, then with the rim that takes their colour (what cvf runs), then with the
+  // rim marked by the rule without colour.
+  for (const int variant : {0, 1, 2}) {
+    std::vector<double> ms;
+    for (int i = 0; i < 120; ++i) {
+      ctx.queue().finish();
+      const auto t0 = std::chrono::steady_clock::now();
+      fill.run(real, 20, &colour);
+      if (variant == 1) fill.mark_near_occluders(&colour);
+      if (variant == 2) fill.mark_near_occluders();
+      ctx.queue().finish();
+      if (i >= 20)
+        ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                .count());
+    }
+    std::sort(ms.begin(), ms.end());
+    std::printf("hole cores 640x480 r=20%s: p50 %.3f ms\n",
+                variant == 1   ? " + the rim by colour"
+                : variant == 2 ? " + the rim without colour"
+                               : "",
+                ms[ms.size() / 2]);
   }
-  std::sort(ms.begin(), ms.end());
-  std::printf("hole cores 640x480 r=20: p50 %.3f ms\n", ms[ms.size() / 2]);
 }
 
 }  // namespace
